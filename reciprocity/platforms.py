@@ -1,0 +1,114 @@
+"""Platforms: what moves to the observation points and measures the signal there."""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+
+import numpy as np
+import shapely
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
+from scipy.spatial import cKDTree
+
+from arenas import Arena
+
+from .errors import SearchError
+from .green import Field, GreenSolver
+from .strategies.base import Request
+
+__all__ = ["Platform", "PointPlatform"]
+
+
+class Platform(ABC):
+    """Moves to requested points and returns noisy readings there.
+
+    Attributes
+    ----------
+    pose : ndarray, shape (3,)
+        Current pose (x, y cm; heading rad).
+    path_length : float
+        Distance travelled so far, cm.
+    source : ndarray, shape (2,)
+        The true source (known to the platform and the episode, never to a strategy).
+    """
+
+    pose: np.ndarray
+    path_length: float
+    source: np.ndarray
+
+    @abstractmethod
+    def reset(self, start: np.ndarray, rng: np.random.Generator) -> None:
+        """Place the platform at `start` (x, y[, heading])."""
+
+    @abstractmethod
+    def visit(self, request: Request) -> tuple[np.ndarray, np.ndarray]:
+        """Go to each point of `request` in turn and measure: (points reached, readings)."""
+
+
+class PointPlatform(Platform):
+    """A point observer: moves instantly along the shortest free path, measures exactly
+    where it is asked, with additive Gaussian noise ``N(0, noise^2)``.
+
+    Parameters
+    ----------
+    solver : GreenSolver
+        Solver for the true signal. Use a different mesh from the strategy's (the
+        default in :func:`reciprocity.runner.make_platform`) to avoid an inverse crime.
+    source : array_like, shape (2,)
+        True source, cm.
+    strength : float
+        True strength ``c``.
+    noise : float
+        Noise standard deviation, signal units.
+
+    Notes
+    -----
+    The distance moved is the straight segment when it stays in the free region, else
+    the shortest path along the edges of the solver's mesh (an upper bound on the true
+    geodesic, within a few per cent on a quality mesh).
+    """
+
+    def __init__(self, solver: GreenSolver, source, strength: float, noise: float = 12.0):
+        if not np.isfinite(noise) or noise < 0:
+            raise SearchError(f"noise must be a non-negative number; got {noise!r}")
+        self.arena: Arena = solver.arena
+        self.source = np.asarray(source, dtype=float)
+        self.field: Field = solver.field(self.source, strength)
+        self.noise = float(noise)
+        nodes, t = solver.nodes, solver.triangles
+        i = np.concatenate([t[:, 0], t[:, 1], t[:, 2]])
+        j = np.concatenate([t[:, 1], t[:, 2], t[:, 0]])
+        w = np.hypot(*(nodes[i] - nodes[j]).T)
+        self._graph = coo_matrix((w, (i, j)), shape=(len(nodes),) * 2).tocsr()
+        self._tree = cKDTree(nodes)
+        self._nodes = nodes
+
+    def reset(self, start, rng: np.random.Generator) -> None:
+        s = np.asarray(start, dtype=float).ravel()
+        self.pose = np.array([s[0], s[1], s[2] if len(s) > 2 else 0.0])
+        self.path_length = 0.0
+        self.rng = rng
+
+    def distance(self, a, b) -> float:
+        """Free-path distance (cm) between points `a` and `b`."""
+        seg = shapely.LineString([a, b])
+        if self.arena.free_region.covers(seg):
+            return float(seg.length)
+        ia, ib = self._tree.query([a, b])[1]
+        graph = dijkstra(self._graph, directed=False, indices=ia)[ib]
+        return float(graph + np.hypot(*(self._nodes[ia] - a)) + np.hypot(*(self._nodes[ib] - b)))
+
+    def visit(self, request: Request) -> tuple[np.ndarray, np.ndarray]:
+        pts = np.atleast_2d(np.asarray(request.points, dtype=float))
+        if not self.arena.contains(pts).all():
+            bad = pts[~self.arena.contains(pts)][0]
+            raise SearchError(f"requested point ({bad[0]:.4g}, {bad[1]:.4g}) cm is not in the "
+                              "free region")
+        readings = np.empty(len(pts))
+        for k, p in enumerate(pts):
+            step = p - self.pose[:2]
+            self.path_length += self.distance(self.pose[:2], p)
+            heading = np.arctan2(step[1], step[0]) if np.hypot(*step) > 0 else self.pose[2]
+            self.pose = np.array([p[0], p[1], heading % (2 * np.pi)])
+            readings[k] = self.field(p[None])[0] + self.noise * self.rng.standard_normal()
+        return pts, readings

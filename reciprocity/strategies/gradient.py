@@ -1,0 +1,184 @@
+"""Algorithm 2 of Landa et al.: gradient ascent with three-point gradient estimates."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from arenas import Arena
+
+from ..candidates import CandidateSet
+from ..errors import SearchError
+from ..green import GreenSolver
+from .base import Request, Status, Strategy
+
+__all__ = ["GradientStrategy", "three_point_gradient"]
+
+
+def three_point_gradient(points: np.ndarray, readings: np.ndarray) -> np.ndarray:
+    """Gradient of the plane through three samples (line 14 of Algorithm 2).
+
+    Parameters
+    ----------
+    points : ndarray, shape (3, 2)
+        Sample points, cm, not collinear.
+    readings : ndarray, shape (3,)
+        Signal at the points.
+
+    Returns
+    -------
+    ndarray, shape (2,)
+        Signal units per cm.
+    """
+    p = np.asarray(points, dtype=float)
+    A = p[1:] - p[0]
+    if abs(np.linalg.det(A)) < 1e-9 * max(1.0, np.abs(A).max()) ** 2:
+        raise SearchError("the three gradient samples are collinear; spread them out")
+    return np.linalg.solve(A, np.asarray(readings[1:], dtype=float) - readings[0])
+
+
+class GradientStrategy(Strategy):
+    """Gradient ascent (Algorithm 2).
+
+    While the signal is weaker than `i_min` the observer explores: the next point is the
+    admissible point nearest to the current one at least `d` from all earlier samples
+    (ties broken toward the current heading). Once the signal is strong enough, two
+    extra samples (a short step back, then forward and to the side, `delta` cm) give a
+    linear gradient estimate and the observer steps along it. The step does not
+    overshoot: for a point source ``|∇u| ≈ c / (2 pi r)``, so the step is at most
+    `kappa` times the distance ``r ≈ c / (2 pi |∇u|)`` this implies, and at most
+    `step_max`. The search stops when a reading exceeds `i_max`; the estimate is the
+    observer's position.
+
+    Parameters
+    ----------
+    i_min, i_max : float
+        Signal thresholds (signal units): gradient sampling above `i_min`, stop above
+        `i_max`.
+    d : float
+        Exploration separation, cm.
+    delta : float
+        Offset of the two gradient samples, cm.
+    step_max : float
+        Largest step along the gradient, cm.
+    kappa : float
+        Fraction of the estimated source distance taken per step.
+    max_steps : int
+        Give up after this many signal measurements.
+    clearance : float
+        Distance kept from walls, cm.
+    strength : float or "arena"
+        Source strength ``c`` used to size steps.
+    h : float
+        Mesh size (cm) for the admissible-point set when no solver is given.
+    solver : GreenSolver, optional
+        Prebuilt solver (only its mesh is used).
+    """
+
+    name = "gradient"
+
+    def __init__(self, *, i_min: float = 18.0, i_max: float = 255.0, d: float = 15.0,
+                 delta: float = 3.0, step_max: float = 15.0, kappa: float = 0.5,
+                 max_steps: int = 60, clearance: float = 3.0, strength="arena",
+                 h: float = 1.0, solver: GreenSolver | None = None):
+        super().__init__()
+        if not 0 <= i_min < i_max:
+            raise SearchError(f"need 0 <= i_min < i_max; got i_min={i_min!r}, i_max={i_max!r}")
+        for key, val in dict(d=d, delta=delta, step_max=step_max, kappa=kappa, h=h).items():
+            if not np.isfinite(val) or val <= 0:
+                raise SearchError(f"{key} must be a positive number; got {val!r}")
+        if int(max_steps) < 1:
+            raise SearchError(f"max_steps must be at least 1; got {max_steps!r}")
+        self.i_min, self.i_max, self.d, self.delta = float(i_min), float(i_max), float(d), float(delta)
+        self.step_max, self.kappa, self.max_steps = float(step_max), float(kappa), int(max_steps)
+        self.clearance, self.strength, self.h, self.solver = float(clearance), strength, float(h), solver
+
+    def params(self) -> dict:
+        return dict(i_min=self.i_min, i_max=self.i_max, d=self.d, delta=self.delta,
+                    step_max=self.step_max, kappa=self.kappa, max_steps=self.max_steps,
+                    clearance=self.clearance, strength=self.strength)
+
+    def start(self, arena: Arena, pose: np.ndarray, rng: np.random.Generator) -> None:
+        super().__init__()
+        if self.solver is None or self.solver.arena is not arena:
+            self.solver = GreenSolver(arena, h=max(self.h, 1.0))
+        self.arena = arena
+        self.c = arena.strength if self.strength == "arena" else float(self.strength)
+        self.candidates = CandidateSet(self.solver, self.clearance)
+        self._reachable = self.candidates.reachable_from(pose[:2])
+        self.heading = float(pose[2]) if len(pose) > 2 else 0.0
+        self.visited = np.empty((0, 2))
+        self.samples = np.empty((0, 2))
+        self.position = np.asarray(pose[:2], dtype=float)
+        self.reading = None
+        self.gradients: list[tuple[list, list]] = []
+        self._pending = Request(self.position[None, :].copy(), "signal")
+
+    def propose(self) -> Request | None:
+        return None if self.done else self._pending
+
+    def observe(self, request: Request, points: np.ndarray, readings: np.ndarray) -> None:
+        points = np.atleast_2d(np.asarray(points, dtype=float))
+        readings = np.asarray(readings, dtype=float)
+        self.n_samples += len(readings)
+        self.samples = np.vstack([self.samples, points])
+        if request.kind == "gradient":
+            pts = np.vstack([self.position, points])
+            vals = np.concatenate([[self.reading], readings])
+            g = three_point_gradient(pts, vals)
+            self.gradients.append((self.position.tolist(), g.tolist()))
+            self._pending = Request(self._gradient_step(g)[None, :], "signal")
+            return
+        new = points[-1]
+        if np.hypot(*(new - self.position)) > 1e-9:
+            self.heading = float(np.arctan2(*(new - self.position)[::-1]))
+        self.position, self.reading = new, float(readings[-1])
+        self.visited = np.vstack([self.visited, new])
+        self.n_measurements += 1
+        self.status = Status(self.position.copy(), None)
+        if self.reading >= self.i_max:
+            self.done, self.stop_reason = True, "signal above i_max"
+        elif self.n_measurements >= self.max_steps:
+            self.done, self.stop_reason = True, "max_steps reached"
+        elif self.reading < self.i_min:
+            nxt = self._explore()
+            if nxt is None:
+                self.done, self.stop_reason = True, "no admissible exploration point left"
+            else:
+                self._pending = Request(nxt[None, :], "signal")
+        else:
+            self._pending = Request(self._gradient_samples(), "gradient")
+
+    def _explore(self) -> np.ndarray | None:
+        """Lines 9-12: nearest admissible point at least d from all samples."""
+        cand = self.candidates
+        allowed = self._reachable & cand.separated(self.visited, self.d)
+        ahead = (cand.nodes - self.position) @ np.array([np.cos(self.heading), np.sin(self.heading)])
+        return cand.nearest_ring(self.position, allowed, ahead, self.solver.h)
+
+    def _gradient_samples(self) -> np.ndarray:
+        """Line 13: a short step back, then forward and to the side (the paper's manoeuvre)."""
+        e = np.array([np.cos(self.heading), np.sin(self.heading)])
+        n = np.array([-e[1], e[0]])
+        for turn in (0.0, np.pi / 2, np.pi, 3 * np.pi / 2):
+            rot = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+            pts = self.position + self.delta * np.array([rot @ -e, rot @ (e + n) / np.sqrt(2)])
+            if self.arena.contains(pts).all():
+                return pts
+        return self.position + self.delta * np.array([-e, (e + n) / np.sqrt(2)]) * 0.3
+
+    def _gradient_step(self, g: np.ndarray) -> np.ndarray:
+        """Lines 16-17: step along the gradient without overshooting the source."""
+        norm = np.hypot(*g)
+        if norm == 0:
+            return self.position.copy()
+        r_est = self.c / (2 * np.pi * norm)
+        step = min(self.step_max, self.kappa * r_est)
+        self.heading = float(np.arctan2(g[1], g[0]))
+        u = g / norm
+        cand = self.candidates
+        for s in step * 0.5 ** np.arange(6):
+            target = self.position + s * u
+            if cand.nearest(target, self._reachable) is not None and self.arena.contains(target, self.clearance)[0]:
+                return target
+        near = cand.nearest(self.position + step * u, self._reachable)
+        return self.position.copy() if near is None else near

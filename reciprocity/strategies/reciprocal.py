@@ -1,0 +1,199 @@
+"""Algorithm 1 of Landa et al.: reciprocity-based source discovery."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from arenas import Arena
+
+from ..candidates import CandidateSet
+from ..errors import SearchError
+from ..green import GreenSolver
+from ..imaging import ImagingMap
+from .base import Request, Status, Strategy
+
+__all__ = ["ReciprocityStrategy", "RULES", "mass_within_reach"]
+
+#: Next-observation rules.
+RULES = ("reach", "nearest")
+
+
+def mass_within_reach(candidates: np.ndarray, support: np.ndarray, weights: np.ndarray,
+                      reach: float) -> np.ndarray:
+    """``Σ_x w(x) exp(-|y - x|^2 / (2 reach^2))`` for each candidate ``y``.
+
+    Parameters
+    ----------
+    candidates : ndarray, shape (m, 2)
+        Points ``y``, cm.
+    support : ndarray, shape (n, 2)
+        Points ``x``, cm.
+    weights : ndarray, shape (n,)
+        Non-negative weights ``w(x)``.
+    reach : float
+        Kernel length, cm.
+    """
+    d2 = ((candidates[:, None, 0] - support[None, :, 0]) ** 2
+          + (candidates[:, None, 1] - support[None, :, 1]) ** 2)
+    return np.exp(-d2 / (2 * reach * reach)) @ weights
+
+
+class ReciprocityStrategy(Strategy):
+    """Reciprocity search (Algorithm 1): adjoint solves, probability imaging, level sets.
+
+    At each observation point ``z_k`` the reading ``I_k`` and the adjoint field
+    ``v_k = c G(·, z_k)`` add the map ``p_k`` to the imaging function ``P_M``. The search
+    stops when the region ``{P_M >= eps}`` has area below `area_tol`. Otherwise the next
+    point is at least `d` from every earlier point, reachable at `clearance` from the
+    walls, and chosen by `rule`:
+
+    ``"nearest"`` (step 13 of the paper)
+        in ``{v_k > I_k}``, nearest to ``z_k``; among the points of that nearest ring
+        (one mesh size wide) the one with the largest score below.
+    ``"reach"`` (default)
+        the point with the largest score ``Σ_x w(x) exp(-|y - x|^2 / (2 reach^2))``,
+        ``w`` the imaging function times the nodal area: the imaging mass within
+        sensing reach of ``y``. While the signal is weak this sends the observer to the
+        largest unexplored part of the arena; once the region is small, to the points
+        nearest to it that keep the separation `d`, which surround the source.
+
+    The search stops when the region ``{P_M >= eps}`` has area below `area_tol` and,
+    unless `extent_tol` is None, also lies within `extent_tol` of the estimate (a thin
+    curved sliver can have a small area and still be long).
+
+    Parameters
+    ----------
+    eps : float
+        Threshold ``0 < eps < 1`` defining the region of possible sources.
+    area_tol : float
+        ``A_eps``, cm^2: stop when the region is smaller.
+    d : float
+        Minimum separation of observation points, cm.
+    sigma : float
+        ``sigma`` of eq. (7), signal units.
+    max_steps : int
+        Give up after this many measurements.
+    clearance : float
+        Observation points keep this distance (cm) from walls.
+    extent_tol : float or None
+        Largest distance (cm) from the estimate to the region for stopping.
+    rule : {"reach", "nearest"}
+        Next-point rule (see above).
+    reach : float
+        Kernel length (cm) of the ``"reach"`` score: about the distance at which the
+        signal still stands out of the noise.
+    combine : {"mean", "product"}
+        Combination of the maps (eq. 8, or the normalised likelihood).
+    strength : float or "arena" or None
+        Source strength: a number, ``"arena"`` for the arena's nominal strength, or
+        None for unknown (estimated per point by least squares).
+    h : float
+        Mesh size (cm) of the solver built by :meth:`start` when none is given.
+    solver : GreenSolver, optional
+        A prebuilt solver for the arena (shared across episodes: factorized once).
+    """
+
+    name = "reciprocity"
+
+    def __init__(self, *, eps: float = 0.05, area_tol: float = 30.0,
+                 extent_tol: float | None = 4.0, d: float = 10.0, sigma: float = 17.0,
+                 max_steps: int = 30, clearance: float = 3.0, rule: str = "reach",
+                 reach: float = 20.0, combine: str = "product", strength="arena", h: float = 1.0,
+                 solver: GreenSolver | None = None):
+        super().__init__()
+        if not 0 < eps < 1:
+            raise SearchError(f"eps must lie strictly between 0 and 1; got {eps!r}")
+        for key, val in dict(area_tol=area_tol, d=d, sigma=sigma, h=h).items():
+            if not np.isfinite(val) or val <= 0:
+                raise SearchError(f"{key} must be a positive number; got {val!r}")
+        if clearance < 0:
+            raise SearchError(f"clearance must be >= 0 cm; got {clearance!r}")
+        if int(max_steps) < 1:
+            raise SearchError(f"max_steps must be at least 1; got {max_steps!r}")
+        if rule not in RULES:
+            raise SearchError(f"rule must be one of {RULES}; got {rule!r}")
+        if extent_tol is not None and (not np.isfinite(extent_tol) or extent_tol <= 0):
+            raise SearchError(f"extent_tol must be a positive length in cm or None; got {extent_tol!r}")
+        if not np.isfinite(reach) or reach <= 0:
+            raise SearchError(f"reach must be a positive length in cm; got {reach!r}")
+        self.rule, self.reach, self.extent_tol = rule, float(reach), extent_tol
+        self.eps, self.area_tol, self.d, self.sigma = float(eps), float(area_tol), float(d), float(sigma)
+        self.max_steps, self.clearance, self.combine = int(max_steps), float(clearance), combine
+        self.strength, self.h, self.solver = strength, float(h), solver
+
+    def params(self) -> dict:
+        return dict(rule=self.rule, reach=self.reach, eps=self.eps, area_tol=self.area_tol,
+                    extent_tol=self.extent_tol, d=self.d, sigma=self.sigma,
+                    max_steps=self.max_steps, clearance=self.clearance, combine=self.combine,
+                    strength=self.strength if not isinstance(self.strength, float) else float(self.strength),
+                    h=self.h if self.solver is None else self.solver.h)
+
+    def start(self, arena: Arena, pose: np.ndarray, rng: np.random.Generator) -> None:
+        super().__init__()
+        if self.solver is None or self.solver.arena is not arena:
+            self.solver = GreenSolver(arena, h=self.h)
+        c = arena.strength if self.strength == "arena" else self.strength
+        self.imaging = ImagingMap(self.solver, self.sigma, strength=c, combine=self.combine)
+        self.candidates = CandidateSet(self.solver, self.clearance)
+        self._reachable = self.candidates.reachable_from(pose[:2])
+        self._next = np.asarray(pose[:2], dtype=float)
+        t = self.solver.triangles
+        p = self.solver.nodes[t]
+        tri_area = 0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]))
+        self._node_area = np.bincount(t.ravel(), np.repeat(tri_area / 3, 3), len(self.solver.nodes))
+
+    def propose(self) -> Request | None:
+        if self.done:
+            return None
+        return Request(self._next[None, :].copy(), "signal")
+
+    def observe(self, request: Request, points: np.ndarray, readings: np.ndarray) -> None:
+        z, reading = np.asarray(points[0], dtype=float), float(readings[0])
+        self.n_measurements += 1
+        self.n_samples += 1
+        self.imaging.add(z, reading)                                   # steps 9-11
+        area = self.imaging.area(self.eps)                             # step 12
+        estimate = self.imaging.estimate()
+        self.status = Status(estimate, area)
+        region = self.imaging.nodes[self.imaging.values() >= self.eps]
+        extent = float(np.hypot(*(region - estimate).T).max()) if len(region) else 0.0
+        self.status.extra["region_extent"] = extent
+        if area < self.area_tol and (self.extent_tol is None or extent <= self.extent_tol):
+            self.done, self.stop_reason = True, "region smaller than area_tol"
+        elif self.n_measurements >= self.max_steps:
+            self.done, self.stop_reason = True, "max_steps reached"
+        else:
+            nxt = self.next_point()                                    # step 13
+            if nxt is None:
+                self.done, self.stop_reason = True, "no admissible observation point left"
+            else:
+                self._next = nxt
+        self.status.extra["next"] = None if self.done else self._next.tolist()
+
+    def next_point(self) -> np.ndarray | None:
+        """Step 13: the next observation point (cm), or None if none is admissible."""
+        im, cand = self.imaging, self.candidates
+        z = im.points[-1]
+        allowed = self._reachable & cand.separated(im.points, self.d)
+        score = self._score(allowed)
+        if self.rule == "reach":
+            idx = np.flatnonzero(np.isfinite(score))
+            return None if idx.size == 0 else cand.nodes[idx[np.argmax(score[idx])]].copy()
+        inside = im.model()[:, -1] > im.readings[-1]                   # {v_k > I_k}
+        mask = allowed & inside if (allowed & inside).any() else allowed
+        return cand.nearest_ring(z, mask, score, self.solver.h)
+
+    def _score(self, allowed: np.ndarray, n_support: int = 1500,
+                           n_candidates: int = 2500) -> np.ndarray:
+        """Imaging mass within reach of (a subsample of) the allowed nodes; -inf elsewhere.
+        The imaging function weighted by nodal area is the density."""
+        nodes = self.candidates.nodes
+        w = self.imaging.values() * self._node_area
+        top = np.argsort(w)[-n_support:]
+        idx = np.flatnonzero(allowed)
+        if idx.size > n_candidates:
+            idx = idx[np.linspace(0, idx.size - 1, n_candidates).astype(int)]
+        out = np.full(len(nodes), -np.inf)
+        if idx.size:
+            out[idx] = mass_within_reach(nodes[idx], nodes[top], w[top], self.reach)
+        return out
