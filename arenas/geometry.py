@@ -61,6 +61,18 @@ def _polygon(vertices, what: str) -> np.ndarray:
     return v
 
 
+_GEOMETRY: dict = {}
+
+
+def _geometry_only(arena: "Arena") -> "Arena":
+    key = (arena.name, arena.boundary.tobytes(), tuple(o.tobytes() for o in arena.obstacles),
+           arena.circle)
+    if key not in _GEOMETRY:
+        _GEOMETRY[key] = Arena(arena.boundary, arena.obstacles, arena.name, None,
+                               DEFAULT_STRENGTH, None, arena.circle)
+    return _GEOMETRY[key]
+
+
 @dataclass(frozen=True, eq=False)
 class Arena:
     """A 2-D arena: the domain ``D`` minus impassable obstacles ``Omega``.
@@ -172,6 +184,13 @@ class Arena:
             st = np.array([s[0], s[1], heading])
         return Arena(self.boundary, self.obstacles, self.name, src, c, st, self.circle)
 
+    def without_scenario(self) -> "Arena":
+        """The geometry alone (no source, start; default strength), cached per arena.
+
+        Solvers are keyed on this, so episodes with different sources share one
+        factorization."""
+        return _geometry_only(self)
+
     # ------------------------------------------------------------------ validation
     def _check_obstacles(self) -> None:
         outer = Polygon(self.boundary)
@@ -181,6 +200,12 @@ class Arena:
                 raise ArenaError(
                     f"obstacle {i} is not inside the arena boundary (it reaches "
                     f"{p.difference(outer).area:.3g} cm^2 outside); move or clip it")
+        pinch = ("pinches the free region to a point; leave a gap or let them share an "
+                 "edge")
+        for i, p in enumerate(polys):
+            touch = p.intersection(outer.exterior)
+            if not touch.is_empty and touch.length == 0:
+                raise ArenaError(f"obstacle {i} touches the boundary at a single point, which {pinch}")
         for i in range(len(polys)):
             for j in range(i + 1, len(polys)):
                 inter = polys[i].intersection(polys[j])
@@ -188,6 +213,8 @@ class Arena:
                     raise ArenaError(
                         f"obstacles {i} and {j} overlap ({inter.area:.3g} cm^2); "
                         "merge them into one polygon or separate them")
+                if not inter.is_empty and inter.length == 0:
+                    raise ArenaError(f"obstacles {i} and {j} touch at a single point, which {pinch}")
         free = self.free_region
         if free.is_empty or free.area <= MIN_SIZE_CM ** 2:
             raise ArenaError("the obstacles cover the whole arena: there is no free region")
@@ -197,10 +224,8 @@ class Arena:
                 f"the free region is split into {n} disconnected parts; open a passage "
                 "between them or remove the enclosed part (fill it as an obstacle)")
         if not free.is_valid:
-            raise ArenaError(
-                f"the free region is pinched ({explain_validity(free)}): an obstacle "
-                "touches the boundary or another obstacle at a single point; leave a gap "
-                "or let them share an edge")
+            raise ArenaError(f"the free region is invalid ({explain_validity(free)}): an "
+                             f"obstacle {pinch}")
 
     def _check_point(self, point, what: str) -> np.ndarray:
         p = as_points(point, what)[0]

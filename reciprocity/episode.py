@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -81,7 +81,8 @@ def run_episode(arena: Arena, strategy: Strategy, platform: Platform, *, start=N
     rng = np.random.default_rng(seed)
     t0 = time.perf_counter()
     platform.reset(start, rng)
-    strategy.start(arena, platform.pose.copy(), rng)
+    # the strategy sees the geometry and the nominal strength, never the true source
+    strategy.start(replace(arena, source=None), platform.pose.copy(), rng)
     trace = []
     while (request := strategy.propose()) is not None:
         points, readings = platform.visit(request)

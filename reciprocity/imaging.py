@@ -16,6 +16,7 @@ from arenas import as_points
 
 from .errors import ReciprocityError
 from .green import GreenSolver
+from .mesh import triangle_areas
 
 __all__ = ["ImagingMap", "superlevel_area", "COMBINATIONS"]
 
@@ -43,9 +44,7 @@ def superlevel_area(points: np.ndarray, triangles: np.ndarray, values: np.ndarra
         Area, cm^2. Each triangle contributes its area times the exact fraction where
         the linear interpolant is at least `level`.
     """
-    p = points[triangles]
-    area = 0.5 * np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
-                        - (p[:, 2, 0] - p[:, 0, 0]) * (p[:, 1, 1] - p[:, 0, 1]))
+    area = triangle_areas(points, triangles)
     f = values[triangles] - level
     pos = f >= 0
     count = pos.sum(axis=1)
@@ -134,6 +133,15 @@ class ImagingMap:
         self.readings = np.append(self.readings, float(reading))
         self._g = np.column_stack([self._g, g])
         self._cache.clear()
+
+    def first(self, k: int) -> "ImagingMap":
+        """A map holding only the first `k` measurements (for step-by-step figures)."""
+        if not 1 <= k <= self.n:
+            raise ReciprocityError(f"k must lie in 1..{self.n}; got {k!r}")
+        other = ImagingMap(self.solver, self.sigma, strength=self.strength, combine=self.combine)
+        other.points, other.readings = self.points[:k].copy(), self.readings[:k].copy()
+        other._g = self._g[:, :k]
+        return other
 
     @property
     def n(self) -> int:

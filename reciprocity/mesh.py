@@ -18,7 +18,7 @@ from arenas import Arena
 
 from .errors import MeshError
 
-__all__ = ["mesh_free_region", "reentrant_corners"]
+__all__ = ["mesh_free_region", "reentrant_corners", "triangle_areas", "node_areas"]
 
 # Triangle's max-area bound giving a mean edge length close to h with 30-degree quality
 # (measured: an area bound of sqrt(3)/4 h^2 yields a mean edge of 0.82 h)
@@ -36,6 +36,19 @@ def _rings(arena: Arena, h: float) -> list[np.ndarray]:
         a = np.linspace(0, 2 * np.pi, n, endpoint=False)
         rings[0] = np.column_stack([cx + r * np.cos(a), cy + r * np.sin(a)])
     return rings
+
+
+def triangle_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Areas of `triangles` (m, 3) over `points` (n, 2), shape (m,)."""
+    p = points[triangles]
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    return 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+
+
+def node_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Lumped area of each node (a third of each adjacent triangle), shape (n,)."""
+    a = np.repeat(triangle_areas(points, triangles) / 3, 3)
+    return np.bincount(triangles.ravel(), a, len(points))
 
 
 def reentrant_corners(arena: Arena) -> np.ndarray:
@@ -124,8 +137,7 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
             r = tree.query(p[t].mean(axis=1))[0]
             target = h * np.clip((r / radius) ** grading, hmin / h, 1.0)
             area = _AREA_PER_H2 * target**2
-            tri_area = 0.5 * np.abs(np.cross(p[t[:, 1]] - p[t[:, 0]], p[t[:, 2]] - p[t[:, 0]]))
-            if np.all(tri_area <= 1.5 * area):
+            if np.all(triangle_areas(p, t) <= 1.5 * area):
                 break
             mesh["triangle_max_area"] = area
             mesh = triangle.triangulate(mesh, "rpq30a")

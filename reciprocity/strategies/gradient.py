@@ -41,19 +41,29 @@ class GradientStrategy(Strategy):
 
     While the signal is weaker than `i_min` the observer explores: the next point is the
     admissible point nearest to the current one at least `d` from all earlier samples
-    (ties broken toward the current heading). Once the signal is strong enough, two
+    (ties, the whole ring of such points, broken toward the centroid of the part of the
+    arena not yet explored, so the observer does not trail along the walls). Once the signal is strong enough, two
     extra samples (a short step back, then forward and to the side, `delta` cm) give a
     linear gradient estimate and the observer steps along it. The step does not
     overshoot: for a point source ``|∇u| ≈ c / (2 pi r)``, so the step is at most
     `kappa` times the distance ``r ≈ c / (2 pi |∇u|)`` this implies, and at most
-    `step_max`. The search stops when a reading exceeds `i_max`; the estimate is the
-    observer's position.
+    `step_max`.
+
+    The paper stops when a reading exceeds ``I_max``, the signal at the source, which it
+    assumes known; the estimate is then the observer's position. That rule is used when
+    `i_max` is given. By default (``i_max=None``), which needs no knowledge of the
+    source, the search stops once a gradient estimate puts the source within
+    `stop_radius`; the estimate is again the observer's position (moving it along the
+    gradient does not help: so close to the source the three samples straddle it).
 
     Parameters
     ----------
-    i_min, i_max : float
-        Signal thresholds (signal units): gradient sampling above `i_min`, stop above
-        `i_max`.
+    i_min : float
+        Gradient sampling starts above this reading (signal units).
+    i_max : float or None
+        Stop above this reading (the paper's rule), or None for the gradient rule.
+    stop_radius : float
+        Gradient rule: stop when the estimated source distance is below this, cm.
     d : float
         Exploration separation, cm.
     delta : float
@@ -76,30 +86,32 @@ class GradientStrategy(Strategy):
 
     name = "gradient"
 
-    def __init__(self, *, i_min: float = 18.0, i_max: float = 255.0, d: float = 15.0,
-                 delta: float = 3.0, step_max: float = 15.0, kappa: float = 0.5,
+    def __init__(self, *, i_min: float = 18.0, i_max: float | None = None,
+                 stop_radius: float = 3.0, d: float = 15.0,
+                 delta: float = 5.0, step_max: float = 15.0, kappa: float = 0.5,
                  max_steps: int = 60, clearance: float = 3.0, strength="arena",
                  h: float = 1.0, solver: GreenSolver | None = None):
         super().__init__()
-        if not 0 <= i_min < i_max:
+        if not 0 <= i_min < (np.inf if i_max is None else i_max):
             raise SearchError(f"need 0 <= i_min < i_max; got i_min={i_min!r}, i_max={i_max!r}")
-        for key, val in dict(d=d, delta=delta, step_max=step_max, kappa=kappa, h=h).items():
+        for key, val in dict(stop_radius=stop_radius, d=d, delta=delta, step_max=step_max, kappa=kappa, h=h).items():
             if not np.isfinite(val) or val <= 0:
                 raise SearchError(f"{key} must be a positive number; got {val!r}")
         if int(max_steps) < 1:
             raise SearchError(f"max_steps must be at least 1; got {max_steps!r}")
-        self.i_min, self.i_max, self.d, self.delta = float(i_min), float(i_max), float(d), float(delta)
+        self.i_min, self.d, self.delta = float(i_min), float(d), float(delta)
+        self.i_max, self.stop_radius = (None if i_max is None else float(i_max)), float(stop_radius)
         self.step_max, self.kappa, self.max_steps = float(step_max), float(kappa), int(max_steps)
         self.clearance, self.strength, self.h, self.solver = float(clearance), strength, float(h), solver
 
     def params(self) -> dict:
-        return dict(i_min=self.i_min, i_max=self.i_max, d=self.d, delta=self.delta,
+        return dict(i_min=self.i_min, i_max=self.i_max, stop_radius=self.stop_radius, d=self.d, delta=self.delta,
                     step_max=self.step_max, kappa=self.kappa, max_steps=self.max_steps,
                     clearance=self.clearance, strength=self.strength)
 
     def start(self, arena: Arena, pose: np.ndarray, rng: np.random.Generator) -> None:
         super().__init__()
-        if self.solver is None or self.solver.arena is not arena:
+        if self.solver is None or self.solver.arena.without_scenario() is not arena.without_scenario():
             self.solver = GreenSolver(arena, h=max(self.h, 1.0))
         self.arena = arena
         self.c = arena.strength if self.strength == "arena" else float(self.strength)
@@ -126,6 +138,11 @@ class GradientStrategy(Strategy):
             vals = np.concatenate([[self.reading], readings])
             g = three_point_gradient(pts, vals)
             self.gradients.append((self.position.tolist(), g.tolist()))
+            norm = np.hypot(*g)
+            r_est = self.c / (2 * np.pi * norm) if norm > 0 else np.inf
+            if self.i_max is None and r_est <= self.stop_radius:
+                self.done, self.stop_reason = True, "gradient puts the source within stop_radius"
+                return
             self._pending = Request(self._gradient_step(g)[None, :], "signal")
             return
         new = points[-1]
@@ -135,7 +152,7 @@ class GradientStrategy(Strategy):
         self.visited = np.vstack([self.visited, new])
         self.n_measurements += 1
         self.status = Status(self.position.copy(), None)
-        if self.reading >= self.i_max:
+        if self.i_max is not None and self.reading >= self.i_max:
             self.done, self.stop_reason = True, "signal above i_max"
         elif self.n_measurements >= self.max_steps:
             self.done, self.stop_reason = True, "max_steps reached"
@@ -152,8 +169,11 @@ class GradientStrategy(Strategy):
         """Lines 9-12: nearest admissible point at least d from all samples."""
         cand = self.candidates
         allowed = self._reachable & cand.separated(self.visited, self.d)
-        ahead = (cand.nodes - self.position) @ np.array([np.cos(self.heading), np.sin(self.heading)])
-        return cand.nearest_ring(self.position, allowed, ahead, self.solver.h)
+        if not allowed.any():
+            return None
+        centroid = cand.nodes[allowed].mean(axis=0)
+        toward = -np.hypot(*(cand.nodes - centroid).T)
+        return cand.nearest_ring(self.position, allowed, toward, self.solver.h)
 
     def _gradient_samples(self) -> np.ndarray:
         """Line 13: a short step back, then forward and to the side (the paper's manoeuvre)."""

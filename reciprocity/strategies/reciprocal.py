@@ -10,6 +10,7 @@ from ..candidates import CandidateSet
 from ..errors import SearchError
 from ..green import GreenSolver
 from ..imaging import ImagingMap
+from ..mesh import node_areas
 from .base import Request, Status, Strategy
 
 __all__ = ["ReciprocityStrategy", "RULES", "mass_within_reach"]
@@ -130,17 +131,14 @@ class ReciprocityStrategy(Strategy):
 
     def start(self, arena: Arena, pose: np.ndarray, rng: np.random.Generator) -> None:
         super().__init__()
-        if self.solver is None or self.solver.arena is not arena:
+        if self.solver is None or self.solver.arena.without_scenario() is not arena.without_scenario():
             self.solver = GreenSolver(arena, h=self.h)
         c = arena.strength if self.strength == "arena" else self.strength
         self.imaging = ImagingMap(self.solver, self.sigma, strength=c, combine=self.combine)
         self.candidates = CandidateSet(self.solver, self.clearance)
         self._reachable = self.candidates.reachable_from(pose[:2])
         self._next = np.asarray(pose[:2], dtype=float)
-        t = self.solver.triangles
-        p = self.solver.nodes[t]
-        tri_area = 0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]))
-        self._node_area = np.bincount(t.ravel(), np.repeat(tri_area / 3, 3), len(self.solver.nodes))
+        self._node_area = node_areas(self.solver.nodes, self.solver.triangles)
 
     def propose(self) -> Request | None:
         if self.done:

@@ -1,0 +1,246 @@
+"""Semi-Lagrangian Gauss-Seidel sweeps, compiled with numba.
+
+Discretisation of eq. (11) of Landa et al. (the dynamic programming
+principle behind eq. (13)): from node (x_i, y_j, θ_k) the car follows an exact
+arc (or segment) of length ``s_c`` with control ``c``, landing at heading
+``θ_k + u_c s_c/ρ`` -- chosen to be a grid heading -- and at a position that is
+generally off the grid.  Then
+
+    φ_ijk = min( bc_ijk, min_c [ s_c + Σ_ab w_ab φ(i + di + a, j + dj + b, k') ] )
+
+with bilinear weights ``w_ab >= 0`` summing to one.  The update is a monotone,
+consistent scheme, and its fixed point is found by Gauss-Seidel sweeps.
+Within a heading layer the nodes are visited against the direction of
+straight motion, so the straight-line dependencies are resolved in a single
+pass; the layers are visited alternately by increasing and decreasing θ, which
+resolves left and right turns respectively.
+
+Blocked and unreachable states are +inf in the result.  During the sweeps
+they hold the finite stand-in ``BIG``: a stencil touching one with a positive
+weight yields a candidate above ``UNREACHABLE`` (effectively +inf), while no
+``0 * inf`` or ``inf - inf`` can arise, and nodes not yet reached do not block
+the growth of the finite region.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+INF = np.inf
+# Stand-in for +inf inside the sweeps.  Blocked and not-yet-reached nodes hold
+# BIG; a bilinear weight is either 0 or above ~1e-18 (fractions are snapped),
+# so any candidate that touches a BIG node exceeds UNREACHABLE and is +inf in
+# the result, while finite candidates never mix with inf arithmetic.
+BIG = 1e100
+UNREACHABLE = 1e50
+
+
+BLOCK = 8  # side of the (x, y) blocks whose changes are tracked, in nodes
+
+
+@njit(cache=True, nogil=True)
+def _update_layer(phi, free, bc, k, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, active, tol, sweep,
+                  changed):
+    """One Gauss-Seidel pass over layer ``k`` of the padded array, only in ``active`` blocks.
+
+    Candidate of stencil c: ``(cost + Σ_ab w_ab φ_foot,ab) * inv_self`` where
+    a weight on the node itself (straight steps shorter than the cell
+    diagonal) is moved to the left-hand side.  Sets ``changed[k, bi, bj] =
+    sweep`` where some node decreased by more than ``tol``.
+    """
+    nt, nxp, nyp = phi.shape
+    nx, ny = nxp - 2 * pad, nyp - 2 * pad
+    nc = off_i.shape[1]
+    for p in range(nx):
+        i = nx - 1 - p if rev_i else p
+        bi = i // BLOCK
+        for q in range(ny):
+            j = ny - 1 - q if rev_j else q
+            bj = j // BLOCK
+            if not active[bi, bj] or not free[i, j]:
+                continue
+            ip, jp = i + pad, j + pad
+            best = bc[k, i, j]
+            for c in range(nc):
+                kc = kk[k, c]
+                a = ip + off_i[k, c]
+                b = jp + off_j[k, c]
+                v = (cost[k, c] + w[k, c, 0] * phi[kc, a, b] + w[k, c, 1] * phi[kc, a, b + 1]
+                     + w[k, c, 2] * phi[kc, a + 1, b] + w[k, c, 3] * phi[kc, a + 1, b + 1]) * inv_self[k, c]
+                if v < best:
+                    best = v
+            old = phi[k, ip, jp]
+            # Candidates that touched BIG stay unreached (BIG) rather than
+            # creeping down geometrically through astronomically large values.
+            if best < old and best < UNREACHABLE:
+                phi[k, ip, jp] = best
+                if old - best > tol:
+                    changed[k, bi, bj] = sweep
+
+
+@njit(cache=True, nogil=True)
+def _layer_is_active(k, kk, reach, changed, computed, active):
+    """Mark blocks of layer k that depend on a block changed since they were computed."""
+    nt, nbx, nby = changed.shape
+    nc = kk.shape[1]
+    n_active = 0
+    for bi in range(nbx):
+        for bj in range(nby):
+            since = computed[k, bi, bj]
+            flag = False
+            for c in range(nc + 1):
+                kc = k if c == nc else kk[k, c]
+                for ei in range(max(bi - reach, 0), min(bi + reach + 1, nbx)):
+                    for ej in range(max(bj - reach, 0), min(bj + reach + 1, nby)):
+                        if changed[kc, ei, ej] >= since:
+                            flag = True
+                            break
+                    if flag:
+                        break
+                if flag:
+                    break
+            active[bi, bj] = flag
+            if flag:
+                n_active += 1
+    return n_active
+
+
+@njit(cache=True, nogil=True)
+def _sweep_layers(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, reach, tol, sweep,
+                  changed, computed, active, order):
+    """Sweep the layers in ``order``; returns how many layers had active blocks."""
+    n_run = 0
+    for k in order:
+        if _layer_is_active(k, kk, reach, changed, computed, active) == 0:
+            continue
+        n_run += 1
+        _update_layer(phi, free, bc, k, off_i, off_j, w, inv_self, kk, cost, rev_i[k], rev_j[k], pad, active, tol,
+                      sweep, changed)
+        for bi in range(active.shape[0]):
+            for bj in range(active.shape[1]):
+                if active[bi, bj]:
+                    computed[k, bi, bj] = sweep
+    return n_run
+
+
+@njit(cache=True, parallel=True)
+def solve_sweeps(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, tol, max_sweeps, nthreads):
+    """Iterate Gauss-Seidel sweeps until no value decreases by more than ``tol``.
+
+    ``phi`` (ntheta, nx + 2 pad, ny + 2 pad) is updated in place; its border
+    and blocked nodes hold BIG.  Values only decrease from the initial data,
+    so the iteration is monotone, and it converges under any (even
+    asynchronous) order of the updates: ``nthreads`` threads sweep disjoint
+    groups of layers concurrently.  Sweeps alternate increasing and decreasing
+    θ.  A block of a layer is recomputed only if a block it depends on
+    changed since the block was last computed, so converged regions cost
+    nothing in later sweeps.  Returns the number of sweeps done.
+    """
+    nt = phi.shape[0]
+    nx, ny = phi.shape[1] - 2 * pad, phi.shape[2] - 2 * pad
+    nbx = (nx + BLOCK - 1) // BLOCK
+    nby = (ny + BLOCK - 1) // BLOCK
+    reach = (pad + BLOCK - 1) // BLOCK
+    changed = np.full((nt, nbx, nby), -1, np.int64)  # sweep of the last change; -1: initial data
+    computed = np.full((nt, nbx, nby), -2, np.int64)  # sweep of the last computation
+    active = np.zeros((nthreads, nbx, nby), np.bool_)
+    n_run = np.zeros(nthreads, np.int64)
+    sweeps = 0
+    while sweeps < max_sweeps:
+        shift = (sweeps * nt) // (2 * nthreads)
+        for g in prange(nthreads):
+            start = (g * nt) // nthreads
+            stop = ((g + 1) * nt) // nthreads
+            order = np.empty(stop - start, np.int64)
+            for p in range(stop - start):
+                q = p if sweeps % 2 == 0 else stop - start - 1 - p
+                order[p] = (start + q + shift) % nt
+            n_run[g] = _sweep_layers(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, reach,
+                                     tol, sweeps, changed, computed, active[g], order)
+        if n_run.sum() == 0:
+            break
+        sweeps += 1
+    return sweeps
+
+
+@njit(cache=True, nogil=True)
+def _cubic_weights(t, w):
+    """Catmull-Rom weights for offsets -1, 0, 1, 2 at fraction ``t``."""
+    t2 = t * t
+    t3 = t2 * t
+    w[0] = -0.5 * t3 + t2 - 0.5 * t
+    w[1] = 1.5 * t3 - 2.5 * t2 + 1.0
+    w[2] = -1.5 * t3 + 2.0 * t2 + 0.5 * t
+    w[3] = 0.5 * t3 - 0.5 * t2
+
+
+@njit(cache=True, nogil=True)
+def interpolate(phi, x0, y0, h, xs, ys, ths, cubic):
+    """φ at arbitrary poses: tricubic (Catmull-Rom, periodic in θ) or trilinear.
+
+    Where the cubic stencil touches +inf the trilinear value is used, and where
+    that touches +inf the result is +inf.  Poses outside the grid give +inf.
+    """
+    nt, nx, ny = phi.shape
+    n = xs.shape[0]
+    out = np.empty(n)
+    dth = 2.0 * np.pi / nt
+    wxc = np.empty(4)
+    wyc = np.empty(4)
+    wtc = np.empty(4)
+    for m in range(n):
+        gx = (xs[m] - x0) / h
+        gy = (ys[m] - y0) / h
+        if not (gx >= -1e-9 and gx <= nx - 1 + 1e-9 and gy >= -1e-9 and gy <= ny - 1 + 1e-9):
+            out[m] = INF
+            continue
+        gt = (ths[m] / dth) % nt
+        i = min(max(int(np.floor(gx)), 0), nx - 2)
+        j = min(max(int(np.floor(gy)), 0), ny - 2)
+        k = int(np.floor(gt)) % nt
+        fx = gx - i
+        fy = gy - j
+        ft = gt - np.floor(gt)
+        # trilinear
+        lin = 0.0
+        for c in range(2):
+            wt = ft if c == 1 else 1.0 - ft
+            if wt <= 0.0:
+                continue
+            kc = (k + c) % nt
+            for a in range(2):
+                wa = fx if a == 1 else 1.0 - fx
+                if wa <= 0.0:
+                    continue
+                for b in range(2):
+                    wb = fy if b == 1 else 1.0 - fy
+                    if wb <= 0.0:
+                        continue
+                    v = phi[kc, i + a, j + b]
+                    if v == INF:
+                        lin = INF
+                    elif lin < INF:
+                        lin += wt * wa * wb * v
+        if lin == INF or not cubic or i < 1 or j < 1 or i > nx - 3 or j > ny - 3:
+            out[m] = lin
+            continue
+        _cubic_weights(fx, wxc)
+        _cubic_weights(fy, wyc)
+        _cubic_weights(ft, wtc)
+        acc = 0.0
+        for c in range(4):
+            kc = (k + c - 1) % nt
+            for a in range(4):
+                for b in range(4):
+                    v = phi[kc, i + a - 1, j + b - 1]
+                    if v == INF:
+                        acc = INF
+                        break
+                    acc += wtc[c] * wxc[a] * wyc[b] * v
+                if acc == INF:
+                    break
+            if acc == INF:
+                break
+        out[m] = lin if acc == INF else max(acc, 0.0)
+    return out

@@ -1,0 +1,182 @@
+"""Command line: ``hjplanner solve | path | bank``.
+
+Examples
+--------
+::
+
+    hjplanner solve --arena paper --target 70,70 --rho 15 --out v.npz
+    hjplanner path --value v.npz --start 128,12,135 --plot path.png
+    hjplanner bank --arena paper --spacing 12.7 --rho 15 --cache ./vf-cache
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+
+import numpy as np
+
+from .errors import PlanningError
+
+__all__ = ["main"]
+
+
+class _Parser(argparse.ArgumentParser):
+    """ArgumentParser that raises instead of exiting, so main() owns the exit code."""
+
+    def error(self, message):
+        raise PlanningError(f"{message} (see '{self.prog} --help')")
+
+
+def _floats(text: str, n: int, what: str) -> tuple[float, ...]:
+    try:
+        values = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        values = ()
+    if len(values) != n or not np.isfinite(values).all():
+        raise PlanningError(f"{what} must be {n} comma-separated numbers, got {text!r}")
+    return values
+
+
+def _domain(args):
+    if args.arena and args.bounds:
+        raise PlanningError("give either --arena or --bounds, not both")
+    if args.bounds:
+        x0, x1, y0, y1 = _floats(args.bounds, 4, "--bounds X0,X1,Y0,Y1")
+        return ((x0, x1), (y0, y1))
+    if not args.arena:
+        raise PlanningError("a domain is needed: --arena NAME|FILE or --bounds X0,X1,Y0,Y1")
+    try:
+        import arenas
+    except ImportError as exc:
+        raise PlanningError(f"--arena needs the 'arenas' package, which cannot be imported ({exc}); "
+                            "use --bounds X0,X1,Y0,Y1 instead") from None
+    try:
+        return arenas.load(args.arena)
+    except Exception as exc:  # arenas reports its own errors; show them without a traceback
+        raise PlanningError(f"cannot load arena {args.arena!r}: {exc}") from None
+
+
+def _default_h(domain, h):
+    if h is not None:
+        return h
+    if hasattr(domain, "boundary"):
+        return 1.0  # cm, the paper's planner resolution
+    (x0, x1), (y0, y1) = domain
+    return max(x1 - x0, y1 - y0) / 100.0
+
+
+def _add_grid_arguments(parser):
+    parser.add_argument("--arena", help="built-in arena name or YAML file (cm)")
+    parser.add_argument("--bounds", help="rectangle X0,X1,Y0,Y1 instead of an arena")
+    parser.add_argument("--rho", type=float, required=True, help="minimum turning radius")
+    parser.add_argument("--h", type=float, default=None, help="grid spacing (default 1 cm for arenas)")
+    parser.add_argument("--ntheta", type=int, default=72, help="number of headings (default 72)")
+    parser.add_argument("--clearance", type=float, default=0.0, help="inflate obstacles and walls by this")
+    parser.add_argument("--reverse", action="store_true", help="allow reverse driving (Reeds-Shepp)")
+
+
+def _cmd_solve(args) -> int:
+    from .solver import solve
+    domain = _domain(args)
+    target = _floats(args.target, 2, "--target X,Y")
+    vf = solve(domain, target, args.rho, _default_h(domain, args.h), args.ntheta, clearance=args.clearance,
+               tol=args.tol, reverse=args.reverse)
+    vf.save(args.out)
+    g = vf.grid
+    finite = np.isfinite(vf.values)
+    print(f"solved {vf.meta['domain']} target ({target[0]:g}, {target[1]:g}) on {g.nx} x {g.ny} x {g.ntheta} "
+          f"in {vf.meta['solve_time_s']:.2f} s ({vf.meta['sweeps']} sweeps); "
+          f"reachable {finite.mean():.1%} of states; max finite phi {vf.values[finite].max():.4g}")
+    print(f"wrote {args.out}")
+    return 0
+
+
+def _cmd_path(args) -> int:
+    from .value_function import ValueFunction
+    vf = ValueFunction.load(args.value)
+    x, y, deg = _floats(args.start, 3, "--start X,Y,DEG")
+    path = vf.path((x, y, np.radians(deg)), ds=args.ds)
+    words = {1: "L", 0: "S", -1: "R"}
+    runs = []
+    for u in path.steering:
+        if runs and runs[-1][0] == words[int(u)]:
+            runs[-1][1] += 1
+        else:
+            runs.append([words[int(u)], 1])
+    summary = dict(start=[x, y, deg], target=vf.target.tolist(), phi_start=path.value_start, length=path.length,
+                   reached=path.reached, steps=len(path.steering),
+                   controls=" ".join(f"{w}{n * path.ds:.3g}" for w, n in runs))
+    print(json.dumps(summary))
+    if args.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(6, 5))
+        vf.plot_slice(np.radians(deg), ax=ax)
+        ax.plot(path.xy[:, 0], path.xy[:, 1], "w-", lw=2)
+        ax.plot(x, y, "wo")
+        fig.savefig(args.plot, dpi=120, bbox_inches="tight")
+        plt.close(fig)
+        print(f"wrote {args.plot}")
+    if not path.reached:
+        print("error: the path did not reach the target", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _cmd_bank(args) -> int:
+    from .bank import ValueFunctionBank
+    domain = _domain(args)
+    bank = ValueFunctionBank(domain, args.spacing, rho=args.rho, h=_default_h(domain, args.h), ntheta=args.ntheta,
+                             clearance=args.clearance, reverse=args.reverse, cache_dir=args.cache)
+    n_missing = len(bank.missing())
+    seconds = bank.build(workers=args.workers, progress=not args.quiet)
+    print(f"bank of {len(bank)} targets (spacing {args.spacing:g}) in {bank.cache_dir}: "
+          f"{n_missing} solved in {seconds:.1f} s, {len(bank) - n_missing} from cache")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="hjplanner", description="Hamilton-Jacobi value functions and paths for the simple car.")
+    sub = parser.add_subparsers(dest="command", parser_class=_Parser)
+    p = sub.add_parser("solve", help="solve a value function and write it to .npz")
+    _add_grid_arguments(p)
+    p.add_argument("--target", required=True, help="target X,Y")
+    p.add_argument("--tol", type=float, default=None, help="target radius (default: point target)")
+    p.add_argument("--out", required=True, help="output .npz file")
+    p.set_defaults(run=_cmd_solve)
+    p = sub.add_parser("path", help="optimal path from a start pose")
+    p.add_argument("--value", required=True, help=".npz written by 'hjplanner solve'")
+    p.add_argument("--start", required=True, help="start pose X,Y,DEG (heading in degrees)")
+    p.add_argument("--ds", type=float, default=None, help="arc-length step (default h/2)")
+    p.add_argument("--plot", help="write a figure (PNG/PDF)")
+    p.set_defaults(run=_cmd_path)
+    p = sub.add_parser("bank", help="precompute value functions on a lattice of targets")
+    _add_grid_arguments(p)
+    p.add_argument("--spacing", type=float, required=True, help="lattice spacing of the targets")
+    p.add_argument("--cache", default=None, help="cache directory (default ~/.cache/hjplanner)")
+    p.add_argument("--workers", type=int, default=None, help="processes (default: CPU count)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(run=_cmd_bank)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``hjplanner`` console script; returns the exit code (2 on bad input)."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return 2
+        return int(args.run(args))
+    except (PlanningError, ValueError, OSError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

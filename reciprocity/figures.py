@@ -1,0 +1,143 @@
+"""Figures in the style of Landa et al.: imaging steps (Fig. 4) and gradient runs (Fig. 5)."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.tri import Triangulation
+
+from arenas import Arena
+
+from .episode import Episode
+from .green import Field
+from .imaging import ImagingMap
+
+__all__ = ["draw_arena", "imaging_steps_figure", "gradient_run_figure", "field_figure"]
+
+
+def draw_arena(ax, arena: Arena, *, obstacle_color: str = "0.25", wall_color: str = "k") -> None:
+    """Draw the arena's walls and filled obstacles on `ax` (cm, equal aspect)."""
+    b = np.vstack([arena.boundary, arena.boundary[:1]])
+    ax.plot(b[:, 0], b[:, 1], color=wall_color, lw=1.5)
+    for o in arena.obstacles:
+        ax.fill(o[:, 0], o[:, 1], color=obstacle_color, zorder=3)
+    (x0, x1), (y0, y1) = arena.bounds
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (cm)")
+    ax.set_ylabel("y (cm)")
+
+
+def _triangulation(imaging: ImagingMap) -> Triangulation:
+    return Triangulation(imaging.nodes[:, 0], imaging.nodes[:, 1], imaging.triangles)
+
+
+def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
+                         eps: float, steps=None, ncols: int = 4) -> Figure:
+    """One panel per step of a reciprocity search, as in the paper's Fig. 4.
+
+    Background: ``P_M`` after the step; black: the newest level set ``{v_k = I_k}``;
+    white: the boundary of ``{P_M >= eps}``; red circles: measurement points; blue
+    line: the path; black cross: the next point; magenta diamond: the estimate;
+    green star: the true source.
+
+    Parameters
+    ----------
+    episode : Episode
+        The run (its trace gives the path and next points).
+    imaging : ImagingMap
+        The strategy's imaging map at the end of the run.
+    arena : Arena
+        For the walls.
+    eps : float
+        Region threshold.
+    steps : sequence of int, optional
+        Steps to draw (1-based); default: the first two and the last two.
+    ncols : int
+        Panels per row.
+    """
+    n = imaging.n
+    if steps is None:
+        steps = sorted({1, min(2, n), max(1, n - 1), n})
+    steps = [k for k in steps if 1 <= k <= n]
+    rows = int(np.ceil(len(steps) / ncols))
+    cols = min(ncols, len(steps))
+    fig = Figure(figsize=(3.6 * cols, 3.5 * rows), layout="constrained")
+    tri = _triangulation(imaging)
+    path = np.array([arena.start[:2] if arena.start is not None else episode.summary["start"][:2]]
+                    + [r["pose"][:2] for r in episode.trace])
+    src = np.asarray(episode.summary["source"])
+    for i, k in enumerate(steps):
+        ax = fig.add_subplot(rows, cols, i + 1)
+        sub = imaging.first(k)
+        P = sub.values()
+        tpc = ax.tripcolor(tri, P, shading="gouraud", cmap="jet", vmin=0, vmax=1, rasterized=True)
+        draw_arena(ax, arena)
+        for line in sub.level_set(-1):
+            ax.plot(line[:, 0], line[:, 1], "k-", lw=1.2)
+        for line in sub.region_boundary(eps):
+            ax.plot(line[:, 0], line[:, 1], "w-", lw=1.5)
+        ax.plot(path[: k + 1, 0], path[: k + 1, 1], "-", color="tab:blue", lw=1.2)
+        ax.plot(sub.points[:, 0], sub.points[:, 1], "o", mfc="none", mec="red", ms=7, mew=1.5)
+        nxt = episode.trace[k - 1].get("next")
+        if nxt is not None:
+            ax.plot(*nxt, "kx", ms=9, mew=2)
+        est = sub.estimate()
+        ax.plot(*est, "D", color="magenta", mec="k", ms=7)
+        ax.plot(*src, "*", color="lime", mec="k", ms=11)
+        area = sub.area(eps)
+        ax.set_title(f"step {k}: area {area:.0f} cm², est. ({est[0]:.1f}, {est[1]:.1f})", fontsize=9)
+    fig.colorbar(tpc, ax=fig.axes, shrink=0.8, label="imaging function $P_M$")
+    return fig
+
+
+def gradient_run_figure(episode: Episode, field: Field, arena: Arena,
+                        gradients=()) -> Figure:
+    """A gradient-ascent run over the grey-scale signal, as in the paper's Fig. 5.
+
+    Grey background: the signal (lighter = stronger); green: the path; magenta circles:
+    signal measurements; red arrows: gradient estimates; green star: the true source.
+    """
+    fig = Figure(figsize=(6, 5.4), layout="constrained")
+    ax = fig.add_subplot()
+    x, y, u = field.on_grid(1.0)
+    (x0, x1), (y0, y1) = arena.bounds
+    ax.set_facecolor("0.25")  # cells inside obstacles are NaN: show them as obstacles
+    ax.imshow(np.clip(u, 0, 255), origin="lower", extent=[x0, x1, y0, y1], cmap="gray",
+              vmin=0, vmax=255, interpolation="nearest")
+    draw_arena(ax, arena)
+    start = np.asarray(episode.summary["start"][:2])
+    pts = [start] + [p for r in episode.trace for p in np.atleast_2d(r["points"])]
+    pts = np.array(pts)
+    ax.plot(pts[:, 0], pts[:, 1], "-", color="limegreen", lw=1.5)
+    sig = np.array([np.atleast_2d(r["points"])[-1] for r in episode.trace if r["kind"] == "signal"])
+    ax.plot(sig[:, 0], sig[:, 1], "o", mfc="none", mec="magenta", ms=7, mew=1.5)
+    for p, g in gradients:
+        g = np.asarray(g)
+        u_ = 8.0 * g / max(np.hypot(*g), 1e-12)
+        ax.annotate("", xy=(p[0] + u_[0], p[1] + u_[1]), xytext=p,
+                    arrowprops=dict(arrowstyle="->", color="red", lw=1.5))
+    ax.plot(*episode.summary["source"], "*", color="lime", mec="k", ms=12)
+    if episode.summary["estimate"] is not None:
+        ax.plot(*episode.summary["estimate"], "D", color="magenta", mec="k", ms=7)
+    s = episode.summary
+    ax.set_title(f"gradient ascent: {s['n_measurements']} signal + "
+                 f"{(s['n_samples'] - s['n_measurements']) // 2} gradient measurements "
+                 f"({s['n_samples']} samples)", fontsize=9)
+    return fig
+
+
+def field_figure(field: Field, arena: Arena, *, title: str = "") -> Figure:
+    """The signal as a grey-scale floor (lighter = stronger), clipped to 0-255."""
+    fig = Figure(figsize=(6, 5.4), layout="constrained")
+    ax = fig.add_subplot()
+    x, y, u = field.on_grid(0.5)
+    (x0, x1), (y0, y1) = arena.bounds
+    ax.set_facecolor("0.25")
+    im = ax.imshow(np.clip(u, 0, 255), origin="lower", extent=[x0, x1, y0, y1], cmap="gray",
+                   vmin=0, vmax=255)
+    draw_arena(ax, arena)
+    fig.colorbar(im, ax=ax, label="signal")
+    ax.set_title(title)
+    return fig

@@ -1,0 +1,118 @@
+"""Probability imaging: exact areas, combinations, unknown strength, estimates, level sets."""
+
+import numpy as np
+import pytest
+
+import arenas
+import reciprocity as r
+
+
+@pytest.fixture(scope="module")
+def solver():
+    return r.GreenSolver(arenas.load("empty"), h=3.0)
+
+
+def test_superlevel_area_of_a_linear_function_is_exact(solver):
+    # f = x on the 140 x 140 square: {f >= 35} has area 105 * 140 exactly (f is P1)
+    x = solver.nodes[:, 0]
+    assert r.superlevel_area(solver.nodes, solver.triangles, x, 35.0) == pytest.approx(105 * 140, rel=1e-12)
+    # and a level through the middle of triangles, not along edges
+    assert r.superlevel_area(solver.nodes, solver.triangles, x, 35.37) == pytest.approx(
+        (140 - 35.37) * 140, rel=1e-12)
+
+
+def test_superlevel_area_of_a_cone_converges_to_the_disk(solver):
+    c = np.array([70.0, 70.0])
+    f = -np.hypot(*(solver.nodes - c).T)
+    area = r.superlevel_area(solver.nodes, solver.triangles, f, -30.0)
+    assert area == pytest.approx(np.pi * 30**2, rel=5e-3)
+
+
+def _noiseless(solver, source, points, c=850.0):
+    u = solver.field(source, strength=c)
+    return [(p, float(u([p])[0])) for p in points]
+
+
+POINTS = [(30.0, 30.0), (60.0, 110.0), (110.0, 30.0), (100.0, 100.0)]
+
+
+@pytest.mark.parametrize("combine", r.COMBINATIONS)
+def test_noiseless_data_locate_the_source(solver, combine):
+    source = np.array([90.0, 60.0])
+    im = r.ImagingMap(solver, sigma=5.0, strength=850.0, combine=combine)
+    for p, reading in _noiseless(solver, source, POINTS):
+        im.add(p, reading)
+    assert np.hypot(*(im.estimate() - source)) < 0.5 * solver.h
+    # nodal maximum: 1 for the rescaled product; near 1 for the mean (source off the nodes)
+    assert im.values().max() == 1.0 if combine == "product" else im.values().max() > 0.9
+    # p_k = 1 exactly where the model matches the reading (eq. 7)
+    assert np.allclose(im.p_maps().max(axis=0), 1.0, atol=0.05)
+
+
+def test_region_shrinks_as_measurements_arrive(solver):
+    source = np.array([90.0, 60.0])
+    im = r.ImagingMap(solver, sigma=10.0, strength=850.0, combine="product")
+    areas = []
+    for p, reading in _noiseless(solver, source, POINTS):
+        im.add(p, reading)
+        areas.append(im.area(0.5))
+    assert all(b <= a for a, b in zip(areas, areas[1:]))
+    assert areas[-1] < 0.05 * areas[0]
+
+
+def test_mean_combination_is_eq8(solver):
+    im = r.ImagingMap(solver, sigma=10.0, strength=850.0, combine="mean")
+    for p, reading in _noiseless(solver, (90.0, 60.0), POINTS[:3]):
+        im.add(p, reading)
+    model = 850.0 * np.column_stack([solver.green(p).dofs for p in POINTS[:3]])
+    expected = np.mean(np.exp(-((model - im.readings) / 10.0) ** 2), axis=1)
+    assert np.allclose(im.values(), expected)
+
+
+def test_unknown_strength_is_recovered_by_least_squares(solver):
+    source = np.array([90.0, 60.0])
+    im = r.ImagingMap(solver, sigma=5.0, strength=None, combine="product")
+    for p, reading in _noiseless(solver, source, POINTS, c=600.0):
+        im.add(p, reading)
+    est = im.estimate()
+    assert np.hypot(*(est - source)) < solver.h
+    i = np.argmin(np.hypot(*(solver.nodes - source).T))
+    assert im.strength_map()[i] == pytest.approx(600.0, rel=0.05)
+
+
+def test_level_set_lies_on_the_reading(solver):
+    source = np.array([90.0, 60.0])
+    im = r.ImagingMap(solver, sigma=5.0, strength=850.0)
+    (p, reading), = _noiseless(solver, source, POINTS[:1])
+    im.add(p, reading)
+    lines = im.level_set()
+    assert lines
+    pts = np.vstack(lines)
+    assert np.allclose(850.0 * solver.green(p)(pts), reading, rtol=2e-2)
+    # the source is (nearly) on it: reciprocity
+    assert np.min(np.hypot(*(pts - source).T)) < solver.h
+
+
+def test_first_k_view_and_interpolation(solver):
+    im = r.ImagingMap(solver, sigma=10.0, strength=850.0)
+    for p, reading in _noiseless(solver, (90.0, 60.0), POINTS):
+        im.add(p, reading)
+    two = im.first(2)
+    assert two.n == 2 and im.n == 4
+    assert np.isnan(im([[200.0, 200.0]]))[0]
+    assert 0 <= im([[70.0, 70.0]])[0] <= 1
+
+
+def test_bad_input(solver):
+    with pytest.raises(r.ReciprocityError, match="sigma"):
+        r.ImagingMap(solver, sigma=0, strength=1.0)
+    with pytest.raises(r.ReciprocityError, match="combine"):
+        r.ImagingMap(solver, sigma=1, strength=1.0, combine="max")
+    im = r.ImagingMap(solver, sigma=1, strength=1.0)
+    with pytest.raises(r.ReciprocityError, match="no measurements"):
+        im.values()
+    with pytest.raises(r.ReciprocityError, match="finite"):
+        im.add((10.0, 10.0), float("nan"))
+    im.add((10.0, 10.0), 1.0)
+    with pytest.raises(r.ReciprocityError, match="eps"):
+        im.area(1.5)
