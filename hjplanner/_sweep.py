@@ -24,8 +24,10 @@ the growth of the finite region.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 INF = np.inf
 # Stand-in for +inf inside the sweeps.  Blocked and not-yet-reached nodes hold
@@ -124,18 +126,18 @@ def _sweep_layers(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev
     return n_run
 
 
-@njit(cache=True, parallel=True)
 def solve_sweeps(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, tol, max_sweeps, nthreads):
     """Iterate Gauss-Seidel sweeps until no value decreases by more than ``tol``.
 
     ``phi`` (ntheta, nx + 2 pad, ny + 2 pad) is updated in place; its border
     and blocked nodes hold BIG.  Values only decrease from the initial data,
     so the iteration is monotone, and it converges under any (even
-    asynchronous) order of the updates: ``nthreads`` threads sweep disjoint
-    groups of layers concurrently.  Sweeps alternate increasing and decreasing
-    θ.  A block of a layer is recomputed only if a block it depends on
-    changed since the block was last computed, so converged regions cost
-    nothing in later sweeps.  Returns the number of sweeps done.
+    asynchronous) order of the updates: ``nthreads`` threads (the kernels
+    release the GIL) sweep disjoint groups of layers concurrently.  Sweeps
+    alternate increasing and decreasing θ.  A block of a layer is recomputed
+    only if a block it depends on changed since the block was last computed,
+    so converged regions cost nothing in later sweeps.  Returns the number of
+    sweeps done.
     """
     nt = phi.shape[0]
     nx, ny = phi.shape[1] - 2 * pad, phi.shape[2] - 2 * pad
@@ -144,23 +146,30 @@ def solve_sweeps(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_
     reach = (pad + BLOCK - 1) // BLOCK
     changed = np.full((nt, nbx, nby), -1, np.int64)  # sweep of the last change; -1: initial data
     computed = np.full((nt, nbx, nby), -2, np.int64)  # sweep of the last computation
+    nthreads = max(1, min(int(nthreads), nt))
     active = np.zeros((nthreads, nbx, nby), np.bool_)
-    n_run = np.zeros(nthreads, np.int64)
-    sweeps = 0
-    while sweeps < max_sweeps:
-        shift = (sweeps * nt) // (2 * nthreads)
-        for g in prange(nthreads):
-            start = (g * nt) // nthreads
-            stop = ((g + 1) * nt) // nthreads
-            order = np.empty(stop - start, np.int64)
-            for p in range(stop - start):
-                q = p if sweeps % 2 == 0 else stop - start - 1 - p
-                order[p] = (start + q + shift) % nt
-            n_run[g] = _sweep_layers(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, reach,
-                                     tol, sweeps, changed, computed, active[g], order)
-        if n_run.sum() == 0:
-            break
-        sweeps += 1
+    args = (phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, reach, float(tol))
+
+    def run(group, sweep):
+        start, stop = (group * nt) // nthreads, ((group + 1) * nt) // nthreads
+        shift = (sweep * nt) // (2 * nthreads)  # move the group boundaries between sweeps
+        order = (np.arange(start, stop) if sweep % 2 == 0 else np.arange(stop - 1, start - 1, -1)) + shift
+        return _sweep_layers(*args, sweep, changed, computed, active[group], order % nt)
+
+    pool = ThreadPoolExecutor(nthreads) if nthreads > 1 else None
+    try:
+        sweeps = 0
+        while sweeps < max_sweeps:
+            if pool is None:
+                n_run = run(0, sweeps)
+            else:
+                n_run = sum(pool.map(run, range(nthreads), [sweeps] * nthreads))
+            if n_run == 0:
+                break
+            sweeps += 1
+    finally:
+        if pool is not None:
+            pool.shutdown()
     return sweeps
 
 

@@ -168,7 +168,7 @@ class ValueFunctionBank:
                     _solve_to_file(*job)
                     bar.update()
             else:
-                # spawn: numba's thread pool in the parent is not fork-safe.
+                # spawn: no inherited threads or locks from the parent, the same on every OS.
                 context = multiprocessing.get_context("spawn")
                 with ProcessPoolExecutor(workers, mp_context=context) as pool:
                     for future in as_completed([pool.submit(_solve_to_file, *job) for job in jobs]):

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
+import os
 import time
 import warnings
 
-import numba
 import numpy as np
 
 from . import _sweep
@@ -38,8 +38,8 @@ class SolverOptions:
     max_sweeps : int
         Upper bound on Gauss-Seidel sweeps.
     threads : int, optional
-        Threads sweeping groups of layers concurrently (default: numba's
-        thread count).
+        Threads sweeping groups of layers concurrently (default: 2, or 1 on
+        a single CPU).
     """
 
     def __init__(self, turn_steps: tuple[int, ...] = (1, 2, 3, 4), straight_cells: tuple[float, ...] = (3.0,),
@@ -276,7 +276,7 @@ def solve_on_grid(grid: Grid, free: np.ndarray, bc: np.ndarray, rho: float, opti
     pad = stencils["pad"]
     phi = np.full((grid.ntheta, grid.nx + 2 * pad, grid.ny + 2 * pad), _sweep.BIG)
     phi[:, pad:-pad, pad:-pad] = np.where(np.isfinite(bc) & free, bc, _sweep.BIG)
-    threads = max(1, min(options.threads or numba.get_num_threads(), numba.get_num_threads()))
+    threads = options.threads or min(os.cpu_count() or 1, 2)
     sweeps = _sweep.solve_sweeps(
         phi, free, bc, stencils["off_i"], stencils["off_j"], stencils["w"], stencils["inv_self"], stencils["kk"],
         stencils["cost"], stencils["rev_i"], stencils["rev_j"], pad, options.sweep_tol * grid.h, options.max_sweeps,
