@@ -45,7 +45,8 @@ def _geometry_of(domain) -> _Geometry | tuple:
     try:
         (x0, x1), (y0, y1) = np.asarray(domain, dtype=float)
     except (TypeError, ValueError):
-        raise PlanningError(f"domain must be an Arena or rectangle bounds ((x0, x1), (y0, y1)), got {domain!r}") from None
+        raise PlanningError(
+            f"domain must be an Arena or rectangle bounds ((x0, x1), (y0, y1)), got {domain!r}") from None
     return ((float(x0), float(x1)), (float(y0), float(y1)))
 
 

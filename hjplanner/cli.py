@@ -70,7 +70,7 @@ def _default_h(domain, h):
 
 def _add_grid_arguments(parser):
     parser.add_argument("--arena", help="built-in arena name or YAML file (cm)")
-    parser.add_argument("--bounds", help="rectangle X0,X1,Y0,Y1 instead of an arena")
+    parser.add_argument("--bounds", help="rectangle X0,X1,Y0,Y1 instead of an arena (--bounds=-1,1,-1,1 if negative)")
     parser.add_argument("--rho", type=float, required=True, help="minimum turning radius")
     parser.add_argument("--h", type=float, default=None, help="grid spacing (default 1 cm for arenas)")
     parser.add_argument("--ntheta", type=int, default=72, help="number of headings (default 72)")
@@ -144,13 +144,14 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", parser_class=_Parser)
     p = sub.add_parser("solve", help="solve a value function and write it to .npz")
     _add_grid_arguments(p)
-    p.add_argument("--target", required=True, help="target X,Y")
+    p.add_argument("--target", required=True, help="target X,Y (--target=-1,2 if negative)")
     p.add_argument("--tol", type=float, default=None, help="target radius (default: point target)")
     p.add_argument("--out", required=True, help="output .npz file")
     p.set_defaults(run=_cmd_solve)
     p = sub.add_parser("path", help="optimal path from a start pose")
     p.add_argument("--value", required=True, help=".npz written by 'hjplanner solve'")
-    p.add_argument("--start", required=True, help="start pose X,Y,DEG (heading in degrees)")
+    p.add_argument("--start", required=True,
+                   help="start pose X,Y,DEG, heading in degrees (--start=-1,2,90 if negative)")
     p.add_argument("--ds", type=float, default=None, help="arc-length step (default h/2)")
     p.add_argument("--plot", help="write a figure (PNG/PDF)")
     p.set_defaults(run=_cmd_path)

@@ -53,8 +53,10 @@ class PlannedPath:
         return self.poses[:, :2]
 
 
-def arc_step(poses: np.ndarray, u: ArrayLike, v: ArrayLike, ds: float, rho: float) -> np.ndarray:
+def arc_step(poses: np.ndarray, u: ArrayLike, v: ArrayLike, ds: ArrayLike, rho: float) -> np.ndarray:
     """Poses after arc length ``ds`` with steering ``u`` (curvature u/ρ) and direction ``v`` (±1).
+
+    ``poses`` is (3,) or (n, 3); ``u``, ``v`` and ``ds`` broadcast against n.
 
     Exact integration of eq. (9) with ``θ' = u/ρ`` (forward Euler in the
     paper; exact arcs here, so paths respect the turning radius exactly).
@@ -62,6 +64,7 @@ def arc_step(poses: np.ndarray, u: ArrayLike, v: ArrayLike, ds: float, rho: floa
     poses = np.atleast_2d(np.asarray(poses, float))
     u = np.asarray(u, float)
     v = np.asarray(v, float)
+    ds = np.asarray(ds, float)
     x, y, th = poses[..., 0], poses[..., 1], poses[..., 2]
     dth = u * ds / rho
     # chord of the arc: length 2ρ sin(dθ/2)/|u|, direction θ + dθ/2 (ds for straight steps)
@@ -70,6 +73,28 @@ def arc_step(poses: np.ndarray, u: ArrayLike, v: ArrayLike, ds: float, rho: floa
     mid = th + v * 0.5 * dth
     new_th = np.mod(th + v * dth, 2 * np.pi)
     return np.stack([x + v * chord * np.cos(mid), y + v * chord * np.sin(mid), new_th], axis=-1)
+
+
+def _lenient_value(vf, poses: np.ndarray) -> np.ndarray:
+    """Trilinear φ renormalised over the finite corners; +inf if a corner is blocked or none is finite."""
+    g = vf.grid
+    phi = vf._phi
+    gx = (poses[:, 0] - g.x0) / g.h
+    gy = (poses[:, 1] - g.y0) / g.h
+    gt = np.mod(poses[:, 2], 2 * np.pi) / g.dtheta
+    out = np.full(len(poses), np.inf)
+    inside = (gx >= 0) & (gx <= g.nx - 1) & (gy >= 0) & (gy <= g.ny - 1)
+    for n in np.nonzero(inside)[0]:
+        i, j, k = min(int(gx[n]), g.nx - 2), min(int(gy[n]), g.ny - 2), int(gt[n]) % g.ntheta
+        if not vf.free[i:i + 2, j:j + 2].all():
+            continue
+        fx, fy, ft = gx[n] - i, gy[n] - j, gt[n] - np.floor(gt[n])
+        w = np.einsum("a,b,c->abc", [1 - ft, ft], [1 - fx, fx], [1 - fy, fy])
+        values = phi[[k, (k + 1) % g.ntheta]][:, i:i + 2, j:j + 2]
+        ok = np.isfinite(values) & (w > 0)
+        if ok.any():
+            out[n] = float((w[ok] * values[ok]).sum() / w[ok].sum())
+    return out
 
 
 def _first_minimum(values: np.ndarray) -> int:
@@ -160,9 +185,15 @@ def optimal_path(vf, start_pose: ArrayLike, ds: float | None = None, *, stop_tol
             if np.isfinite(values.min()):
                 best, u_set, v_set = _first_minimum(values), short_u, short_v
         if best < 0:
-            ends = np.stack([arc_step(pose, u, v, s, rho)[0] for u, v, s in zip(us, vs, lengths)])
+            ends = arc_step(np.repeat(pose[None], len(us), axis=0), us, vs, lengths, rho)
             values = lengths + vf(ends[:, 0], ends[:, 1], ends[:, 2], cubic=False)
             best = _first_minimum(values)
+        if not np.isfinite(values[best]):
+            # Between nodes at the edge of the reachable set every stencil may
+            # end next to a +inf node; then average φ over the finite corners
+            # only, still refusing feet in cells touching blocked nodes.
+            values = lengths + _lenient_value(vf, ends)
+            best, u_set, v_set = _first_minimum(values), us, vs
             if not np.isfinite(values[best]):
                 break
         pose = arc_step(pose, u_set[best], v_set[best], ds, rho)[0]

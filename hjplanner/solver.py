@@ -142,7 +142,7 @@ def _validate(target, rho, h, ntheta, clearance, tol):
 
 
 def _boundary_data(grid: Grid, free: np.ndarray, target, rho: float, tol: float,
-                   ctrl, options: SolverOptions, reverse: bool) -> np.ndarray:
+                   ctrl, options: SolverOptions, reverse: bool) -> tuple[np.ndarray, float]:
     """Initial values ``bc`` (ntheta, nx, ny), +inf except at states that reach the target directly.
 
     Returns ``bc`` and the radius ``r0`` of the exact layer (0 for disks).
@@ -150,39 +150,51 @@ def _boundary_data(grid: Grid, free: np.ndarray, target, rho: float, tol: float,
     Point target (``tol == 0``): the exact value of eqs. (13)-(14) at states
     whose optimal path is shorter than ``r0`` -- a few cells -- and so lies in
     the disk of radius ``r0`` around the target, which must be obstacle-free.
+    Next to an obstacle that disk shrinks; if it gets thinner than the
+    nominal radius, the disk of radius h/2 is also a target (first hits, as
+    below), so that every heading has boundary data.
     Disk target (``tol > 0``): 0 inside the disk, and the arc length to the
     first hit along each stencil's primitive for nodes next to it.
     """
     tx, ty = target
-    x, y, th = grid.x, grid.y, grid.theta
+    gx, gy = np.meshgrid(grid.x, grid.y, indexing="ij")
+    dist = np.hypot(gx - tx, gy - ty)
+    if tol > 0:
+        return _first_hits(grid, free, gx, gy, dist, target, tol, ctrl, rho), 0.0
     bc = np.full((grid.ntheta, grid.nx, grid.ny), np.inf)
     s_max = max(s for _, _, s in ctrl)
-    gx, gy = np.meshgrid(x, y, indexing="ij")
-    dist = np.hypot(gx - tx, gy - ty)
-    if tol == 0:
-        r0 = max(s_max + 2 * grid.h, options.local_radius * np.sqrt(rho * grid.h), options.exact_radius)
-        blocked = dist[~free]
-        if blocked.size and blocked.min() < r0:
-            r0 = max(blocked.min() - grid.h, grid.h)
-        near = np.nonzero(free & (dist <= r0))
-        for k, theta in enumerate(th):
-            bc[k][near] = local_exact(gx[near], gy[near], theta, (tx, ty), rho, r0, reverse)
-        return bc, float(r0)
-    near = np.nonzero(free & (dist <= tol + s_max + grid.h))
-    inside = free & (dist <= tol)
+    r0 = max(s_max + 2 * grid.h, options.local_radius * np.sqrt(rho * grid.h), options.exact_radius)
+    blocked = dist[~free]
+    constrained = bool(blocked.size and blocked.min() < r0)
+    if constrained:
+        r0 = max(blocked.min() - grid.h, grid.h)
+    near = np.nonzero(free & (dist <= r0))
+    for k, theta in enumerate(grid.theta):
+        bc[k][near] = local_exact(gx[near], gy[near], theta, (tx, ty), rho, r0, reverse)
+    if constrained:
+        bc = np.minimum(bc, _first_hits(grid, free, gx, gy, dist, target, 0.5 * grid.h, ctrl, rho))
+    return bc, float(r0)
+
+
+def _first_hits(grid: Grid, free, gx, gy, dist, target, radius: float, ctrl, rho: float) -> np.ndarray:
+    """0 in the disk of ``radius`` about ``target``; nearby, the arc length along a stencil to the disk."""
+    bc = np.full((grid.ntheta, grid.nx, grid.ny), np.inf)
+    s_max = max(s for _, _, s in ctrl)
+    near = np.nonzero(free & (dist <= radius + s_max + grid.h))
+    inside = free & (dist <= radius)
     samples = np.linspace(0.0, 1.0, 65)[1:]
-    for k, theta in enumerate(th):
+    for k, theta in enumerate(grid.theta):
         layer = bc[k]
         layer[inside] = 0.0
         for v, u, s in ctrl:
             dx, dy = _arc_displacement(np.full(1, theta), u, s * samples[:, None], rho)
             px = gx[near][None, :] + v * dx
             py = gy[near][None, :] + v * dy
-            hit = np.hypot(px - tx, py - ty) <= tol
+            hit = np.hypot(px - target[0], py - target[1]) <= radius
             first = np.where(hit.any(axis=0), s * samples[np.argmax(hit, axis=0)], np.inf)
             layer[near] = np.minimum(layer[near], first)
     bc[:, ~free] = np.inf
-    return bc, 0.0
+    return bc
 
 
 def solve(domain, target, rho: float, h: float, ntheta: int, *, clearance: float = 0.0,

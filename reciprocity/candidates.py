@@ -62,10 +62,11 @@ class CandidateSet:
 
     def separated(self, visited: np.ndarray, d: float) -> np.ndarray:
         """Mask of nodes at distance at least `d` (cm) from every visited point."""
-        far = np.ones(len(self.nodes), dtype=bool)
-        for z in np.atleast_2d(visited):
-            far &= np.hypot(*(self.nodes - z).T) >= d
-        return far
+        v = np.atleast_2d(np.asarray(visited, dtype=float))
+        if v.size == 0:
+            return np.ones(len(self.nodes), dtype=bool)
+        d2 = (self.nodes[:, None, 0] - v[None, :, 0]) ** 2 + (self.nodes[:, None, 1] - v[None, :, 1]) ** 2
+        return d2.min(axis=1) >= d * d
 
     def nearest_ring(self, center, mask: np.ndarray, score: np.ndarray,
                      width: float) -> np.ndarray | None:

@@ -90,6 +90,7 @@ def run_episode(arena: Arena, strategy: Strategy, platform: Platform, *, start=N
         st = strategy.status
         record = dict(step=len(trace) + 1, kind=request.kind, targets=request.points,
                       points=points, readings=readings, pose=platform.pose.copy(),
+                      route=np.asarray(platform.last_route),
                       path_length=platform.path_length,
                       estimate=None if st.estimate is None else np.asarray(st.estimate),
                       region_area=st.region_area, **st.extra)

@@ -29,6 +29,11 @@ def draw_arena(ax, arena: Arena, *, obstacle_color: str = "0.25", wall_color: st
     ax.set_ylabel("y (cm)")
 
 
+def _route(trace) -> np.ndarray:
+    """The way travelled over the given trace records, shape (n, 2)."""
+    return np.vstack([np.asarray(r["route"]) for r in trace])
+
+
 def _triangulation(imaging: ImagingMap) -> Triangulation:
     return Triangulation(imaging.nodes[:, 0], imaging.nodes[:, 1], imaging.triangles)
 
@@ -65,8 +70,6 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
     cols = min(ncols, len(steps))
     fig = Figure(figsize=(3.6 * cols, 3.5 * rows), layout="constrained")
     tri = _triangulation(imaging)
-    path = np.array([arena.start[:2] if arena.start is not None else episode.summary["start"][:2]]
-                    + [r["pose"][:2] for r in episode.trace])
     src = np.asarray(episode.summary["source"])
     for i, k in enumerate(steps):
         ax = fig.add_subplot(rows, cols, i + 1)
@@ -78,7 +81,8 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
             ax.plot(line[:, 0], line[:, 1], "k-", lw=1.2)
         for line in sub.region_boundary(eps):
             ax.plot(line[:, 0], line[:, 1], "w-", lw=1.5)
-        ax.plot(path[: k + 1, 0], path[: k + 1, 1], "-", color="tab:blue", lw=1.2)
+        path = _route(episode.trace[:k])
+        ax.plot(path[:, 0], path[:, 1], "-", color="tab:blue", lw=1.2)
         ax.plot(sub.points[:, 0], sub.points[:, 1], "o", mfc="none", mec="red", ms=7, mew=1.5)
         nxt = episode.trace[k - 1].get("next")
         if nxt is not None:
@@ -107,10 +111,8 @@ def gradient_run_figure(episode: Episode, field: Field, arena: Arena,
     ax.imshow(np.clip(u, 0, 255), origin="lower", extent=[x0, x1, y0, y1], cmap="gray",
               vmin=0, vmax=255, interpolation="nearest")
     draw_arena(ax, arena)
-    start = np.asarray(episode.summary["start"][:2])
-    pts = [start] + [p for r in episode.trace for p in np.atleast_2d(r["points"])]
-    pts = np.array(pts)
-    ax.plot(pts[:, 0], pts[:, 1], "-", color="limegreen", lw=1.5)
+    path = _route(episode.trace)
+    ax.plot(path[:, 0], path[:, 1], "-", color="limegreen", lw=1.5)
     sig = np.array([np.atleast_2d(r["points"])[-1] for r in episode.trace if r["kind"] == "signal"])
     ax.plot(sig[:, 0], sig[:, 1], "o", mfc="none", mec="magenta", ms=7, mew=1.5)
     for p, g in gradients:

@@ -10,6 +10,8 @@ area computed exactly on the piecewise-linear interpolant of ``P_M`` over the me
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 from arenas import as_points
@@ -24,7 +26,7 @@ COMBINATIONS = ("mean", "product")
 
 
 def superlevel_area(points: np.ndarray, triangles: np.ndarray, values: np.ndarray,
-                    level: float) -> float:
+                    level: float, areas: np.ndarray | None = None) -> float:
     """Exact area of ``{f >= level}`` for the P1 interpolant ``f`` of nodal `values`.
 
     Parameters
@@ -37,6 +39,8 @@ def superlevel_area(points: np.ndarray, triangles: np.ndarray, values: np.ndarra
         Nodal values of ``f``.
     level : float
         Threshold.
+    areas : ndarray, shape (m,), optional
+        Precomputed triangle areas.
 
     Returns
     -------
@@ -44,7 +48,7 @@ def superlevel_area(points: np.ndarray, triangles: np.ndarray, values: np.ndarra
         Area, cm^2. Each triangle contributes its area times the exact fraction where
         the linear interpolant is at least `level`.
     """
-    area = triangle_areas(points, triangles)
+    area = triangle_areas(points, triangles) if areas is None else areas
     f = values[triangles] - level
     pos = f >= 0
     count = pos.sum(axis=1)
@@ -107,6 +111,7 @@ class ImagingMap:
         self.solver, self.sigma, self.strength, self.combine = solver, float(sigma), strength, combine
         self.nodes = solver.nodes
         self.triangles = solver.triangles
+        self._tri_areas = triangle_areas(self.nodes, self.triangles)
         self.points = np.empty((0, 2))
         self.readings = np.empty(0)
         self._g = np.empty((len(self.nodes), 0))
@@ -138,7 +143,8 @@ class ImagingMap:
         """A map holding only the first `k` measurements (for step-by-step figures)."""
         if not 1 <= k <= self.n:
             raise ReciprocityError(f"k must lie in 1..{self.n}; got {k!r}")
-        other = ImagingMap(self.solver, self.sigma, strength=self.strength, combine=self.combine)
+        other = copy.copy(self)
+        other._cache = {}
         other.points, other.readings = self.points[:k].copy(), self.readings[:k].copy()
         other._g = self._g[:, :k]
         return other
@@ -199,7 +205,7 @@ class ImagingMap:
         """Area (cm^2) of the region of possible sources ``{P_M >= eps}``."""
         if not 0 < eps < 1:
             raise ReciprocityError(f"eps must lie strictly between 0 and 1; got {eps!r}")
-        return superlevel_area(self.nodes, self.triangles, self.values(), eps)
+        return superlevel_area(self.nodes, self.triangles, self.values(), eps, self._tri_areas)
 
     def estimate(self) -> np.ndarray:
         """Source estimate (cm): the maximiser of ``P_M``, refined below the mesh size.

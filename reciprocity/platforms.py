@@ -35,6 +35,8 @@ class Platform(ABC):
     pose: np.ndarray
     path_length: float
     source: np.ndarray
+    #: The way travelled during the last :meth:`visit`, shape (n, 2), cm.
+    last_route: list
 
     @abstractmethod
     def reset(self, start: np.ndarray, rng: np.random.Generator) -> None:
@@ -87,16 +89,25 @@ class PointPlatform(Platform):
         s = np.asarray(start, dtype=float).ravel()
         self.pose = np.array([s[0], s[1], s[2] if len(s) > 2 else 0.0])
         self.path_length = 0.0
+        self.last_route = [self.pose[:2].copy()]
         self.rng = rng
 
-    def distance(self, a, b) -> float:
-        """Free-path distance (cm) between points `a` and `b`."""
-        seg = shapely.LineString([a, b])
-        if self.arena.free_region.covers(seg):
-            return float(seg.length)
+    def route(self, a, b) -> np.ndarray:
+        """A free path from `a` to `b`: the segment if it is free, else the shortest path
+        along mesh edges; shape (n, 2), cm."""
+        a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        if self.arena.free_region.covers(shapely.LineString([a, b])):
+            return np.array([a, b])
         ia, ib = self._tree.query([a, b])[1]
-        graph = dijkstra(self._graph, directed=False, indices=ia)[ib]
-        return float(graph + np.hypot(*(self._nodes[ia] - a)) + np.hypot(*(self._nodes[ib] - b)))
+        _, pred = dijkstra(self._graph, directed=False, indices=ia, return_predecessors=True)
+        chain = [ib]
+        while chain[-1] != ia and pred[chain[-1]] >= 0:
+            chain.append(pred[chain[-1]])
+        return np.vstack([a, self._nodes[chain[::-1]], b])
+
+    def distance(self, a, b) -> float:
+        """Free-path distance (cm) between points `a` and `b` (length of :meth:`route`)."""
+        return float(np.sum(np.hypot(*np.diff(self.route(a, b), axis=0).T)))
 
     def visit(self, request: Request) -> tuple[np.ndarray, np.ndarray]:
         pts = np.atleast_2d(np.asarray(request.points, dtype=float))
@@ -105,9 +116,12 @@ class PointPlatform(Platform):
             raise SearchError(f"requested point ({bad[0]:.4g}, {bad[1]:.4g}) cm is not in the "
                               "free region")
         readings = np.empty(len(pts))
+        self.last_route = [self.pose[:2].copy()]
         for k, p in enumerate(pts):
             step = p - self.pose[:2]
-            self.path_length += self.distance(self.pose[:2], p)
+            leg = self.route(self.pose[:2], p)
+            self.last_route.extend(leg[1:])
+            self.path_length += float(np.sum(np.hypot(*np.diff(leg, axis=0).T)))
             heading = np.arctan2(step[1], step[0]) if np.hypot(*step) > 0 else self.pose[2]
             self.pose = np.array([p[0], p[1], heading % (2 * np.pi)])
             readings[k] = self.field(p[None])[0] + self.noise * self.rng.standard_normal()

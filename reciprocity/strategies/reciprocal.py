@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from scipy.ndimage import gaussian_filter, map_coordinates
 
 from arenas import Arena
 
@@ -20,8 +21,12 @@ RULES = ("reach", "nearest")
 
 
 def mass_within_reach(candidates: np.ndarray, support: np.ndarray, weights: np.ndarray,
-                      reach: float) -> np.ndarray:
+                      reach: float, cell: float | None = None) -> np.ndarray:
     """``Σ_x w(x) exp(-|y - x|^2 / (2 reach^2))`` for each candidate ``y``.
+
+    The weights are binned on a lattice of `cell` cm (default ``reach / 6``), blurred
+    with a Gaussian filter and read back by linear interpolation: O(n + m) instead of
+    O(n m), with a relative error of order ``(cell / reach)^2``.
 
     Parameters
     ----------
@@ -33,10 +38,22 @@ def mass_within_reach(candidates: np.ndarray, support: np.ndarray, weights: np.n
         Non-negative weights ``w(x)``.
     reach : float
         Kernel length, cm.
+    cell : float, optional
+        Lattice spacing, cm.
     """
-    d2 = ((candidates[:, None, 0] - support[None, :, 0]) ** 2
-          + (candidates[:, None, 1] - support[None, :, 1]) ** 2)
-    return np.exp(-d2 / (2 * reach * reach)) @ weights
+    cell = reach / 6.0 if cell is None else float(cell)
+    pad = 4.0 * reach
+    lo = np.minimum(support.min(axis=0), candidates.min(axis=0)) - pad
+    hi = np.maximum(support.max(axis=0), candidates.max(axis=0)) + pad
+    nx, ny = np.ceil((hi - lo) / cell).astype(int) + 1
+    hist, _, _ = np.histogram2d(support[:, 0], support[:, 1], bins=(nx, ny),
+                                range=[(lo[0], lo[0] + nx * cell), (lo[1], lo[1] + ny * cell)],
+                                weights=weights)
+    sigma = reach / cell
+    # the filter is normalised; the kernel above is not: restore its 2 pi reach^2 / cell^2
+    blurred = gaussian_filter(hist, sigma, mode="constant", truncate=4.0) * (2 * np.pi * sigma**2)
+    coords = ((candidates - lo) / cell - 0.5).T
+    return map_coordinates(blurred, coords, order=1, mode="constant")
 
 
 class ReciprocityStrategy(Strategy):
@@ -181,17 +198,13 @@ class ReciprocityStrategy(Strategy):
         mask = allowed & inside if (allowed & inside).any() else allowed
         return cand.nearest_ring(z, mask, score, self.solver.h)
 
-    def _score(self, allowed: np.ndarray, n_support: int = 1500,
-                           n_candidates: int = 2500) -> np.ndarray:
-        """Imaging mass within reach of (a subsample of) the allowed nodes; -inf elsewhere.
-        The imaging function weighted by nodal area is the density."""
+    def _score(self, allowed: np.ndarray) -> np.ndarray:
+        """Imaging mass within reach of the allowed nodes; -inf elsewhere. The imaging
+        function weighted by nodal area is the density."""
         nodes = self.candidates.nodes
         w = self.imaging.values() * self._node_area
-        top = np.argsort(w)[-n_support:]
         idx = np.flatnonzero(allowed)
-        if idx.size > n_candidates:
-            idx = idx[np.linspace(0, idx.size - 1, n_candidates).astype(int)]
         out = np.full(len(nodes), -np.inf)
         if idx.size:
-            out[idx] = mass_within_reach(nodes[idx], nodes[top], w[top], self.reach)
+            out[idx] = mass_within_reach(nodes[idx], nodes, w, self.reach)
         return out

@@ -1,0 +1,71 @@
+"""The hjplanner command line: round trips and clear error messages (exit code 2, no traceback)."""
+
+import json
+
+import numpy as np
+import pytest
+
+from hjplanner import ValueFunction
+from hjplanner.cli import main
+
+
+def test_solve_then_path(tmp_path, capsys):
+    out = tmp_path / "v.npz"
+    assert main(["solve", "--bounds=-1,1,-1,1", "--target", "0,0", "--rho", "0.3", "--h", "0.05",
+                 "--ntheta", "32", "--out", str(out)]) == 0
+    assert "solved" in capsys.readouterr().out
+    vf = ValueFunction.load(out)
+    assert vf.grid.nx == 41 and vf.grid.ntheta == 32
+    plot = tmp_path / "p.png"
+    assert main(["path", "--value", str(out), "--start=-0.7,0.2,10", "--plot", str(plot)]) == 0
+    summary = json.loads(capsys.readouterr().out.splitlines()[0])
+    assert summary["reached"] and abs(summary["length"] - summary["phi_start"]) < 0.15
+    assert plot.stat().st_size > 1000
+
+
+def test_bank_command(tmp_path, capsys):
+    assert main(["bank", "--bounds", "0,1,0,1", "--spacing", "0.5", "--rho", "0.2", "--h", "0.1", "--ntheta", "16",
+                 "--cache", str(tmp_path), "--workers", "1", "--quiet"]) == 0
+    assert "bank of 4 targets" in capsys.readouterr().out
+    assert len(list(tmp_path.glob("*.npz"))) == 4
+    assert main(["bank", "--bounds", "0,1,0,1", "--spacing", "0.5", "--rho", "0.2", "--h", "0.1", "--ntheta", "16",
+                 "--cache", str(tmp_path), "--workers", "1", "--quiet"]) == 0
+    assert "0 solved" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["solve", "--bounds", "0,1,0,1", "--target", "2,2", "--rho", "0.1", "--out", "v.npz"], "outside the domain"),
+    (["solve", "--bounds", "0,1,0,1", "--target", "0.5,0.5", "--rho", "-1", "--out", "v.npz"],
+     "rho must be a positive"),
+    (["solve", "--bounds", "0,1,0,1", "--target", "0.5,0.5", "--rho", "0.2", "--h", "0", "--out", "v.npz"],
+     "h must be a positive"),
+    (["solve", "--bounds", "0,1,0,1", "--target", "0.5,0.5", "--rho", "0.2", "--ntheta", "4", "--out", "v.npz"],
+     "ntheta must be an integer >= 8"),
+    (["solve", "--bounds", "0,1,0", "--target", "0.5,0.5", "--rho", "0.2", "--out", "v.npz"], "--bounds X0,X1,Y0,Y1"),
+    (["solve", "--target", "0.5,0.5", "--rho", "0.2", "--out", "v.npz"], "a domain is needed"),
+    (["solve", "--bounds", "0,1,0,1", "--target", "a,b", "--rho", "0.2", "--out", "v.npz"], "--target X,Y"),
+    (["solve", "--arena", "no-such-arena", "--target", "1,1", "--rho", "10", "--out", "v.npz"],
+     "cannot load arena 'no-such-arena'"),
+    (["solve", "--bounds", "0,1,0,1", "--rho", "0.2", "--out", "v.npz"], "required: --target"),
+    (["path", "--value", "missing.npz", "--start", "1,2,3"], "does not exist"),
+    (["frobnicate"], "invalid choice"),
+    ([], "usage"),
+])
+def test_errors_are_messages(tmp_path, monkeypatch, capsys, argv, message):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    captured = capsys.readouterr()
+    assert message in captured.err + captured.out
+    assert "Traceback" not in captured.err
+
+
+def test_path_errors(tmp_path, capsys):
+    out = tmp_path / "v.npz"
+    assert main(["solve", "--bounds", "0,1,0,1", "--target", "0.5,0.5", "--rho", "0.3", "--h", "0.05", "--ntheta",
+                 "16", "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert main(["path", "--value", str(out), "--start", "0.97,0.5,0"]) == 2  # facing the wall, 3 cm away
+    assert "cannot reach the target" in capsys.readouterr().err
+    assert main(["path", "--value", str(out), "--start", "0.1,0.2"]) == 2
+    assert "--start X,Y,DEG" in capsys.readouterr().err
+    assert np.isfinite(ValueFunction.load(out)(0.2, 0.2, 0.0))
