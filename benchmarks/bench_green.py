@@ -53,7 +53,8 @@ def main(argv=None) -> int:
     arena = arenas.load(args.arena)
     z = arena.random_free_points(20, np.random.default_rng(0), clearance=3.0)
     print(f"arena {args.arena!r}, P1 elements")
-    print(f"{'h cm':>5} {'unknowns':>9} {'setup s':>8} {'solve ms':>9} {'step ms':>8} {'locate 1e5 pts ms':>18}")
+    print(f"{'h cm':>5} {'unknowns':>9} {'setup s':>8} {'mesh s':>7} {'assemble s':>10} "
+          f"{'factor s':>9} {'solve ms':>9} {'step ms':>8} {'locate 1e5 pts ms':>18}")
     rows = []
     for h in map(float, args.hs.split(",")):
         t = time.perf_counter()
@@ -64,7 +65,9 @@ def main(argv=None) -> int:
         pts = np.random.default_rng(2).uniform(0, 140, (100_000, 2))
         locate = best_of(lambda: solver.locate(pts), 3)
         rows.append((solver.n_unknowns, setup, solve, step))
-        print(f"{h:>5.2f} {solver.n_unknowns:>9d} {setup:>8.2f} {solve * 1e3:>9.2f} {step * 1e3:>8.1f} "
+        tm = solver.timings
+        print(f"{h:>5.2f} {solver.n_unknowns:>9d} {setup:>8.2f} {tm['mesh']:>7.2f} {tm['assemble']:>10.2f} "
+              f"{tm['factorize']:>9.2f} {solve * 1e3:>9.2f} {step * 1e3:>8.1f} "
               f"{locate * 1e3:>18.1f}")
     n = np.log([r_[0] for r_ in rows])
     for k, name in [(1, "setup"), (2, "solve"), (3, "step")]:

@@ -74,9 +74,10 @@ def paper_table(rho: float, clearance: float, spacing: float, workers: int) -> N
     except Exception as exc:  # the arenas package is optional here
         print(f"(paper arena unavailable: {exc})")
         return
-    seconds, vf = best_time(lambda: solve(paper, tuple(paper.source), rho, 1.0, 72, clearance=clearance), 2)
+    target = tuple(float(c) for c in paper.source)
+    seconds, vf = best_time(lambda: solve(paper, target, rho, 1.0, 72, clearance=clearance), 2)
     print(f"\npaper arena, h = 1 cm, 72 headings, rho = {rho:g} cm, clearance = {clearance:g} cm:")
-    print(f"one value function ({vf.grid.nx} x {vf.grid.ny} x 72, target {tuple(paper.source)}): "
+    print(f"one value function ({vf.grid.nx} x {vf.grid.ny} x 72, target {target}): "
           f"{seconds:.2f} s, {vf.meta['sweeps']} sweeps")
     with tempfile.TemporaryDirectory() as cache:
         bank = ValueFunctionBank(paper, spacing, rho=rho, h=1.0, ntheta=72, clearance=clearance, cache_dir=cache)

@@ -100,15 +100,15 @@ def _cmd_path(args) -> int:
     x, y, deg = _floats(args.start, 3, "--start X,Y,DEG")
     path = vf.path((x, y, np.radians(deg)), ds=args.ds)
     words = {1: "L", 0: "S", -1: "R"}
-    runs = []
-    for u in path.steering:
+    runs = []  # [word, arc length] of consecutive steps with the same steering
+    for u, step in zip(path.steering, path.step_lengths):
         if runs and runs[-1][0] == words[int(u)]:
-            runs[-1][1] += 1
+            runs[-1][1] += step
         else:
-            runs.append([words[int(u)], 1])
+            runs.append([words[int(u)], step])
     summary = dict(start=[x, y, deg], target=vf.target.tolist(), phi_start=path.value_start, length=path.length,
                    reached=path.reached, steps=len(path.steering),
-                   controls=" ".join(f"{w}{n * path.ds:.3g}" for w, n in runs))
+                   controls=" ".join(f"{w}{length:.3g}" for w, length in runs))
     print(json.dumps(summary))
     if args.plot:
         import matplotlib

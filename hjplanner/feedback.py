@@ -18,6 +18,9 @@ def steering(vf, pose: ArrayLike, dead_band: float | None = None) -> int:
     optimal straight segment φ_θ changes sign across the path, and a bare
     sign would make the car chatter left-right around it.
 
+    The law is for forward driving; with a Reeds-Shepp value function use
+    :func:`hjplanner.optimal_path`, which also chooses the direction.
+
     Parameters
     ----------
     vf : ValueFunction

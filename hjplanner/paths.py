@@ -17,7 +17,7 @@ LEFT, STRAIGHT, RIGHT = 1, 0, -1
 
 @dataclass(frozen=True)
 class PlannedPath:
-    """A path of the car, sampled every ``ds``.
+    """A path of the car, sampled every ``ds`` or less.
 
     Attributes
     ----------
@@ -27,8 +27,10 @@ class PlannedPath:
         (n - 1,) int: +1 left, 0 straight, -1 right, applied over each step.
     direction : numpy.ndarray
         (n - 1,) int: +1 forward, -1 reverse (Reeds-Shepp value functions).
+    step_lengths : numpy.ndarray
+        (n - 1,) arc length of each step, at most ``ds``.
     ds : float
-        Arc length of one step.
+        Largest arc length of a step.
     reached : bool
         Whether the path ended within the stopping tolerance of the target.
     value_start : float
@@ -38,6 +40,7 @@ class PlannedPath:
     poses: np.ndarray
     steering: np.ndarray
     direction: np.ndarray
+    step_lengths: np.ndarray
     ds: float
     reached: bool
     value_start: float
@@ -45,7 +48,7 @@ class PlannedPath:
     @property
     def length(self) -> float:
         """Driven arc length (length unit)."""
-        return float(len(self.steering) * self.ds)
+        return float(self.step_lengths.sum())
 
     @property
     def xy(self) -> np.ndarray:
@@ -115,12 +118,14 @@ def optimal_path(vf, start_pose: ArrayLike, ds: float | None = None, *, stop_tol
                  max_length: float | None = None) -> PlannedPath:
     """Follow the characteristics of φ from ``start_pose`` to the target.
 
-    Each step of arc length ``ds`` applies the control of the solver stencil
-    minimising ``s + φ(end of the arc of length s)`` -- the discrete form of
-    eq. (15), ``θ' = -sign(φ_θ)/ρ`` (eq. (16) run forwards) and the same
-    choice the scheme made at the grid nodes, so the path stays in the
-    region where φ is finite, hence out of the (inflated) obstacles.  Ties go
-    to driving straight.  Arcs are integrated exactly.
+    From the current pose the path drives the whole arc of the solver
+    stencil minimising ``s + φ(end of the arc of length s)`` -- the discrete
+    form of eq. (15), ``θ' = -sign(φ_θ)/ρ`` (eq. (16) run forwards) and the
+    same choice the scheme made at the grid nodes, so the path stays in the
+    region where φ is finite, hence out of the (inflated) obstacles -- then
+    decides again.  Arcs are integrated exactly and sampled every ``ds`` or
+    less.  Within the solver's exact layer around a point target the path
+    descends the exact φ in steps of ``ds``.  Ties go to driving straight.
 
     Parameters
     ----------
@@ -175,31 +180,41 @@ def optimal_path(vf, start_pose: ArrayLike, ds: float | None = None, *, stop_tol
     r0 = float(vf.meta.get("local_radius", 0.0))
     short_u = np.array([STRAIGHT, LEFT, RIGHT] * (2 if vf.reverse else 1))
     short_v = np.repeat((1, -1) if vf.reverse else (1,), 3)
-    while not reached and len(steering) * ds < max_length:
-        best, u_set, v_set = -1, us, vs
+    driven, step_lengths = 0.0, []
+    while not reached and driven < max_length:
+        best, u_set, v_set, spans = -1, us, vs, lengths
         if r0 > 0 and np.isfinite(local_exact(*pose, target, rho, r0, vf.reverse)):
             # Inside the exact layer: descend the exact φ with steps ds; the
             # solver's longer stencils would overshoot the target.
             ends = arc_step(np.repeat(pose[None], len(short_u), axis=0), short_u, short_v, ds, rho)
             values = local_exact(ends[:, 0], ends[:, 1], ends[:, 2], target, rho, r0, vf.reverse)
             if np.isfinite(values.min()):
-                best, u_set, v_set = _first_minimum(values), short_u, short_v
+                best, u_set, v_set, spans = _first_minimum(values), short_u, short_v, np.full(len(short_u), ds)
         if best < 0:
             ends = arc_step(np.repeat(pose[None], len(us), axis=0), us, vs, lengths, rho)
             values = lengths + vf(ends[:, 0], ends[:, 1], ends[:, 2], cubic=False)
             best = _first_minimum(values)
-        if not np.isfinite(values[best]):
-            # Between nodes at the edge of the reachable set every stencil may
-            # end next to a +inf node; then average φ over the finite corners
-            # only, still refusing feet in cells touching blocked nodes.
-            values = lengths + _lenient_value(vf, ends)
-            best, u_set, v_set = _first_minimum(values), us, vs
             if not np.isfinite(values[best]):
+                # Between nodes at the edge of the reachable set every stencil may
+                # end next to a +inf node; then average φ over the finite corners
+                # only, still refusing feet in cells touching blocked nodes.
+                values = lengths + _lenient_value(vf, ends)
+                best = _first_minimum(values)
+                if not np.isfinite(values[best]):
+                    break
+        # Drive the whole chosen arc, as the scheme's characteristic does, in
+        # sub-steps of at most ds: re-deciding after every ds lets the pose
+        # drift off the discrete characteristic near obstacles.
+        n_sub = max(1, int(np.ceil(spans[best] / ds - 1e-9)))
+        for _ in range(n_sub):
+            pose = arc_step(pose, u_set[best], v_set[best], spans[best] / n_sub, rho)[0]
+            poses.append(pose)
+            steering.append(u_set[best])
+            direction.append(v_set[best])
+            step_lengths.append(spans[best] / n_sub)
+            driven += spans[best] / n_sub
+            reached = bool(np.hypot(*(pose[:2] - target)) <= stop_tol)
+            if reached:
                 break
-        pose = arc_step(pose, u_set[best], v_set[best], ds, rho)[0]
-        poses.append(pose)
-        steering.append(u_set[best])
-        direction.append(v_set[best])
-        reached = bool(np.hypot(*(pose[:2] - target)) <= stop_tol)
-    return PlannedPath(np.array(poses), np.array(steering, dtype=int), np.array(direction, dtype=int), ds,
-                       reached, value_start)
+    return PlannedPath(np.array(poses), np.array(steering, dtype=int), np.array(direction, dtype=int),
+                       np.array(step_lengths), ds, reached, value_start)

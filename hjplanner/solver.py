@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import time
 import warnings
 
@@ -33,18 +32,24 @@ class SolverOptions:
         (at least the longest step plus 2 h): the region around the target
         where the valley of φ, of width about ``d²/ρ`` at distance ``d``, is
         thinner than the grid can resolve.  ``r0 → 0`` as ``h → 0``.
+    exact_radius : float
+        Lower bound on ``r0`` in length units (e.g. to hold the initial
+        layer fixed while refining the grid in a convergence study).
     sweep_tol : float
         Stop sweeping when no value decreases by more than ``sweep_tol * h``.
     max_sweeps : int
         Upper bound on Gauss-Seidel sweeps.
     threads : int, optional
-        Threads sweeping groups of layers concurrently (default: 2, or 1 on
-        a single CPU).
+        Threads sweeping groups of layers concurrently; default 1, which is
+        deterministic (bit for bit).  With 2 threads the Gauss-Seidel order
+        depends on timing, so results vary from run to run within the
+        stopping tolerance; on an idle 2-core machine 2 threads are 1.5x
+        faster.  :class:`ValueFunctionBank` runs one thread per process.
     """
 
     def __init__(self, turn_steps: tuple[int, ...] = (1, 2, 3, 4), straight_cells: tuple[float, ...] = (3.0,),
-                 local_radius: float = 2.0, exact_radius: float = 0.0, sweep_tol: float = 0.05, max_sweeps: int = 500,
-                 threads: int | None = None):
+                 local_radius: float = 2.0, exact_radius: float = 0.0, sweep_tol: float = 0.05,
+                 max_sweeps: int = 500, threads: int | None = None):
         self.turn_steps = tuple(int(m) for m in turn_steps)
         self.straight_cells = tuple(float(c) for c in straight_cells)
         if not self.turn_steps or min(self.turn_steps) < 1 or not self.straight_cells or min(self.straight_cells) < 1:
@@ -56,6 +61,7 @@ class SolverOptions:
         self.threads = None if threads is None else int(threads)
 
     def as_dict(self) -> dict:
+        """JSON-serialisable form (stored in value-function metadata)."""
         return {key: list(v) if isinstance(v, tuple) else v for key, v in vars(self).items()}
 
 
@@ -244,9 +250,18 @@ def solve(domain, target, rho: float, h: float, ntheta: int, *, clearance: float
     Notes
     -----
     Semi-Lagrangian scheme along exact arcs, monotone and upwind (see
-    :mod:`hjplanner._sweep`).  Turning steps land on grid headings, so only
-    bilinear interpolation in (x, y) is needed.  The error cannot drop below
-    about ``ρ Δθ``: refine ``h`` and ``Δθ`` together.
+    :mod:`hjplanner._sweep`): straight steps of 3 h and arcs turning by 1-4
+    angular steps, which land on grid headings, so only bilinear
+    interpolation in (x, y) is needed.  Long and multiple steps cut the
+    numerical diffusion that makes the plain upwind scheme miss a point
+    target.  A point target is seeded with the exact value (Bui et al.) at
+    the states whose optimal path is shorter than ``r0 ≈ 2 sqrt(ρ h)``
+    (stored as ``meta["local_radius"]``).  Walls of a rectangle domain are
+    impassable like arena walls.  The error cannot drop below about
+    ``ρ Δθ``: refine ``h`` and ``Δθ`` together.  Measured on the reference
+    setup ([-1, 1]², ρ = 0.3, target at the origin, poses with exact
+    distance < 0.95): mean |error| 0.0085 on 101 x 101 x 64 in 0.23 s,
+    0.0060 on 201 x 201 x 72 in 0.88 s (one thread, 2-core machine).
 
     Examples
     --------
@@ -288,7 +303,7 @@ def solve_on_grid(grid: Grid, free: np.ndarray, bc: np.ndarray, rho: float, opti
     pad = stencils["pad"]
     phi = np.full((grid.ntheta, grid.nx + 2 * pad, grid.ny + 2 * pad), _sweep.BIG)
     phi[:, pad:-pad, pad:-pad] = np.where(np.isfinite(bc) & free, bc, _sweep.BIG)
-    threads = options.threads or min(os.cpu_count() or 1, 2)
+    threads = options.threads or 1
     sweeps = _sweep.solve_sweeps(
         phi, free, bc, stencils["off_i"], stencils["off_j"], stencils["w"], stencils["inv_self"], stencils["kk"],
         stencils["cost"], stencils["rev_i"], stencils["rev_j"], pad, options.sweep_tol * grid.h, options.max_sweeps,

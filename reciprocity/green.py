@@ -8,7 +8,7 @@ stiffness matrix is symmetric.
 
 from __future__ import annotations
 
-from functools import lru_cache
+import time
 from typing import Callable
 
 import numpy as np
@@ -129,20 +129,27 @@ class GreenSolver:
         self.arena, self.h, self.order, self.walls = arena, float(h), int(order), walls
         if grading is None:
             grading = 0.5 if order == 1 else 0.75
+        clock = time.perf_counter()
         mesh1 = mesh_free_region(arena, h, grading=grading)
+        #: Wall times (s) of the set-up stages: mesh, assemble, factorize.
+        self.timings = {"mesh": time.perf_counter() - clock}
         self._mesh1 = mesh1
         self.mesh = self._curved(mesh1) if (order == 2 and arena.circle is not None) else mesh1
         elem = skfem.ElementTriP1() if order == 1 else skfem.ElementTriP2()
         self.basis = skfem.Basis(self.mesh, elem)
         self._classify_boundary()
+        clock = time.perf_counter()
         self.stiffness = laplace.assemble(self.basis).tocsr()
         n = self.basis.N
         self._free = np.setdiff1d(np.arange(n), self._dirichlet)
+        self.timings["assemble"] = time.perf_counter() - clock
+        clock = time.perf_counter()
         a_free = self.stiffness[self._free]
         self._a_id = a_free[:, self._dirichlet].tocsr()
         # SuperLU with its default COLAMD ordering: on these meshes MMD_AT_PLUS_A halves
         # the fill but makes each back-substitution ~9x slower (measured)
         self._lu = splu(a_free[:, self._free].tocsc())
+        self.timings["factorize"] = time.perf_counter() - clock
         # point location: a trapezoid map on the straight-sided vertex mesh (O(log n))
         self._tri = Triangulation(mesh1.p[0], mesh1.p[1], mesh1.t.T)
         self._finder = self._tri.get_trifinder()

@@ -17,7 +17,7 @@ from .base import Request, Status, Strategy
 __all__ = ["ReciprocityStrategy", "RULES", "mass_within_reach"]
 
 #: Next-observation rules.
-RULES = ("reach", "nearest")
+RULES = ("axis", "reach", "nearest")
 
 
 def mass_within_reach(candidates: np.ndarray, support: np.ndarray, weights: np.ndarray,
@@ -68,12 +68,18 @@ class ReciprocityStrategy(Strategy):
     ``"nearest"`` (step 13 of the paper)
         in ``{v_k > I_k}``, nearest to ``z_k``; among the points of that nearest ring
         (one mesh size wide) the one with the largest score below.
-    ``"reach"`` (default)
+    ``"reach"``
         the point with the largest score ``Σ_x w(x) exp(-|y - x|^2 / (2 reach^2))``,
         ``w`` the imaging function times the nodal area: the imaging mass within
         sensing reach of ``y``. While the signal is weak this sends the observer to the
         largest unexplored part of the arena; once the region is small, to the points
         nearest to it that keep the separation `d`, which surround the source.
+    ``"axis"`` (default)
+        as ``"reach"`` while the imaging mass is spread wider than `reach` (its major
+        standard deviation); once it is concentrated, the admissible point nearest to
+        its major axis at ``max(d, 2 std)`` beyond its centre. The imaging region is
+        elongated along the level sets already measured; level sets around a point on
+        its axis cut across it.
 
     The search stops when the region ``{P_M >= eps}`` has area below `area_tol` and,
     unless `extent_tol` is None, also lies within `extent_tol` of the estimate (a thin
@@ -95,7 +101,7 @@ class ReciprocityStrategy(Strategy):
         Observation points keep this distance (cm) from walls.
     extent_tol : float or None
         Largest distance (cm) from the estimate to the region for stopping.
-    rule : {"reach", "nearest"}
+    rule : {"axis", "reach", "nearest"}
         Next-point rule (see above).
     reach : float
         Kernel length (cm) of the ``"reach"`` score: about the distance at which the
@@ -113,10 +119,10 @@ class ReciprocityStrategy(Strategy):
 
     name = "reciprocity"
 
-    def __init__(self, *, eps: float = 0.05, area_tol: float = 30.0,
-                 extent_tol: float | None = 4.0, d: float = 10.0, sigma: float = 17.0,
-                 max_steps: int = 30, clearance: float = 3.0, rule: str = "reach",
-                 reach: float = 20.0, combine: str = "product", strength="arena", h: float = 1.0,
+    def __init__(self, *, eps: float = 0.1, area_tol: float = 40.0,
+                 extent_tol: float | None = 5.0, d: float = 6.0, sigma: float = 17.0,
+                 max_steps: int = 30, clearance: float = 3.0, rule: str = "axis",
+                 reach: float = 12.0, combine: str = "product", strength="arena", h: float = 1.0,
                  solver: GreenSolver | None = None):
         super().__init__()
         if not 0 < eps < 1:
@@ -191,12 +197,37 @@ class ReciprocityStrategy(Strategy):
         z = im.points[-1]
         allowed = self._reachable & cand.separated(im.points, self.d)
         score = self._score(allowed)
-        if self.rule == "reach":
+        if self.rule == "axis":
+            nxt = self._axis_point(allowed)
+            if nxt is not None:
+                return nxt
+        if self.rule in ("axis", "reach"):
             idx = np.flatnonzero(np.isfinite(score))
             return None if idx.size == 0 else cand.nodes[idx[np.argmax(score[idx])]].copy()
         inside = im.model()[:, -1] > im.readings[-1]                   # {v_k > I_k}
         mask = allowed & inside if (allowed & inside).any() else allowed
         return cand.nearest_ring(z, mask, score, self.solver.h)
+
+    def _axis_point(self, allowed: np.ndarray) -> np.ndarray | None:
+        """The ``"axis"`` rule once the imaging mass is concentrated, else None."""
+        nodes = self.candidates.nodes
+        w = self.imaging.values() * self._node_area
+        w = w / w.sum()
+        centre = w @ nodes
+        cov = np.cov(nodes.T, aweights=w, bias=True)
+        evals, evecs = np.linalg.eigh(cov)
+        std = float(np.sqrt(max(evals[-1], 0.0)))
+        if std > self.reach:
+            return None
+        axis = evecs[:, -1]
+        dist = max(self.d, 2.0 * std)
+        best, best_gap = None, np.inf
+        for sign in (1.0, -1.0):
+            target = centre + sign * dist * axis
+            cand = self.candidates.nearest(target, allowed)
+            if cand is not None and np.hypot(*(cand - target)) < best_gap:
+                best, best_gap = cand, np.hypot(*(cand - target))
+        return best
 
     def _score(self, allowed: np.ndarray) -> np.ndarray:
         """Imaging mass within reach of the allowed nodes; -inf elsewhere. The imaging

@@ -180,3 +180,20 @@ def test_sweeps_converge_and_threads_agree():
     assert np.array_equal(finite, np.isfinite(two.values))
     # Gauss-Seidel order differs; both stop when no value moves by more than 0.05 h
     assert np.abs(one.values[finite] - two.values[finite]).max() < 0.01
+
+
+def test_target_next_to_an_obstacle(u_room):
+    """The exact layer shrinks to the obstacle-free disk; first hits of a small disk fill in."""
+    vf = solve(u_room, (1.42, 1.5), 0.25, 0.04, 32)  # 8 cm from the U's outer wall
+    assert 0 < vf.meta["local_radius"] < 0.1
+    assert not np.isnan(vf.values).any()
+    assert np.isfinite(vf.values).mean() > 0.5
+    assert float(vf(0.9, 1.5, 0.0)) == pytest.approx(0.52, abs=0.03)
+    path = vf.path((0.5, 0.8, np.pi / 2))
+    assert path.reached
+
+
+def test_default_solve_is_deterministic(u_room):
+    a = solve(u_room, (3.3, 1.5), 0.25, 0.05, 32, clearance=0.05)
+    b = solve(u_room, (3.3, 1.5), 0.25, 0.05, 32, clearance=0.05)
+    assert np.array_equal(a.values, b.values)

@@ -75,7 +75,7 @@ def test_reciprocity_search_statistics_on_empty(empty):
         counts.append(ep.summary["n_measurements"])
     assert binom.sf(9, 12, 0.98) > 0.99
     assert ok >= 10
-    assert np.median(errors) < 2.0
+    assert np.median(errors) < 1.5 * solver.h  # a coarse 2 cm mesh here; 1 cm halves it
     assert np.median(counts) <= 8
 
 
