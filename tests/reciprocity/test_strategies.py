@@ -128,3 +128,30 @@ def test_bad_gradient_parameters():
         search(arenas.load("empty"), "spiral")
     with pytest.raises(r.SearchError, match="car platform"):
         search(arenas.load("empty"), "gradient", platform="car")
+
+
+def _strategy_with_belief(solver, arena, belief, **kw):
+    s = r.ReciprocityStrategy(solver=solver, **kw)
+    s.start(arena.without_scenario(), np.array([20.0, 20.0, 0.0]), np.random.default_rng(0))
+    s.imaging.add((20.0, 20.0), 0.0)
+    s.imaging._cache["P"] = belief(solver.nodes)
+    return s
+
+
+def test_axis_rule_measures_across_an_elongated_belief(empty):
+    arena, solver, _ = empty
+    # a belief stretched along x (std 5 cm) and thin in y (std 1.4 cm), centred at (70, 70)
+    s = _strategy_with_belief(solver, arena, lambda p: np.exp(-((p[:, 0] - 70) / 7.0) ** 2
+                                                                - ((p[:, 1] - 70) / 2.0) ** 2))
+    nxt = s.next_point()
+    assert abs(nxt[1] - 70) <= solver.h            # on the major axis
+    assert abs(abs(nxt[0] - 70) - 10) <= solver.h  # 2 std = 10 cm beyond the centre
+
+
+def test_reach_rule_goes_where_the_mass_is(empty):
+    arena, solver, _ = empty
+    # a broad belief: everything but the lower-left quarter
+    s = _strategy_with_belief(solver, arena, lambda p: ((p[:, 0] > 70) | (p[:, 1] > 70)).astype(float),
+                              rule="reach")
+    nxt = s.next_point()
+    assert nxt[0] > 70 or nxt[1] > 70
