@@ -17,7 +17,7 @@ import numpy as np
 from arenas import as_points
 
 from .errors import ReciprocityError
-from .green import GreenSolver
+from .green import Field, GreenSolver
 from .mesh import triangle_areas
 
 __all__ = ["ImagingMap", "superlevel_area", "COMBINATIONS"]
@@ -193,7 +193,6 @@ class ImagingMap:
 
     def __call__(self, points) -> np.ndarray:
         """``P_M`` interpolated at `points` (n, 2), cm; NaN outside the free region."""
-        from .green import Field
         return Field(self.solver, self.values(), "P")(points)
 
     def _require_data(self) -> None:

@@ -196,11 +196,11 @@ class ReciprocityStrategy(Strategy):
         im, cand = self.imaging, self.candidates
         z = im.points[-1]
         allowed = self._reachable & cand.separated(im.points, self.d)
-        score = self._score(allowed)
         if self.rule == "axis":
             nxt = self._axis_point(allowed)
             if nxt is not None:
                 return nxt
+        score = self._score(allowed)  # only when the axis rule did not decide
         if self.rule in ("axis", "reach"):
             idx = np.flatnonzero(np.isfinite(score))
             return None if idx.size == 0 else cand.nodes[idx[np.argmax(score[idx])]].copy()
