@@ -60,6 +60,10 @@ class CandidateSet:
         d = np.hypot(*(self.nodes[idx] - np.asarray(point, dtype=float)).T)
         return self.nodes[idx[np.argmin(d)]].copy()
 
+    def around(self, point, radius: float) -> np.ndarray:
+        """Mask of nodes within `radius` (cm) of `point`."""
+        return np.hypot(*(self.nodes - np.asarray(point, dtype=float)).T) <= radius
+
     def separated(self, visited: np.ndarray, d: float) -> np.ndarray:
         """Mask of nodes at distance at least `d` (cm) from every visited point."""
         v = np.atleast_2d(np.asarray(visited, dtype=float))

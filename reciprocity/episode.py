@@ -11,6 +11,7 @@ import numpy as np
 
 from arenas import Arena
 
+from .errors import UnreachableTarget
 from .platforms import Platform
 from .strategies.base import Strategy
 
@@ -85,15 +86,25 @@ def run_episode(arena: Arena, strategy: Strategy, platform: Platform, *, start=N
     strategy.start(replace(arena, source=None), platform.pose.copy(), rng)
     trace = []
     while (request := strategy.propose()) is not None:
-        points, readings = platform.visit(request)
+        try:
+            points, readings = platform.visit(request)
+        except UnreachableTarget as exc:
+            # the platform says why; the strategy picks another point
+            strategy.reject(request, exc.point, str(exc))
+            record = dict(step=len(trace) + 1, kind="unreachable", motion=request.motion,
+                          targets=request.points, message=str(exc), pose=platform.pose.copy(),
+                          route=np.asarray(platform.last_route), path_length=platform.path_length,
+                          **platform.step_log())
+            trace.append(record)
+            continue
         strategy.observe(request, points, readings)
         st = strategy.status
-        record = dict(step=len(trace) + 1, kind=request.kind, targets=request.points,
-                      points=points, readings=readings, pose=platform.pose.copy(),
-                      route=np.asarray(platform.last_route),
+        record = dict(step=len(trace) + 1, kind=request.kind, motion=request.motion,
+                      targets=request.points, points=points, readings=readings,
+                      pose=platform.pose.copy(), route=np.asarray(platform.last_route),
                       path_length=platform.path_length,
                       estimate=None if st.estimate is None else np.asarray(st.estimate),
-                      region_area=st.region_area, **st.extra)
+                      region_area=st.region_area, **st.extra, **platform.step_log())
         trace.append(record)
         if progress is not None:
             progress(record)
@@ -109,5 +120,6 @@ def run_episode(arena: Arena, strategy: Strategy, platform: Platform, *, start=N
         success=bool(stopped_ok and err is not None and err <= success_radius),
         region_area=strategy.status.region_area, wall_time_s=time.perf_counter() - t0,
         start=start.tolist(), stop_reason=strategy.stop_reason, params=strategy.params(),
+        n_rejected=strategy.n_rejected, platform=platform.name, **platform.summary(),
     )
     return Episode(summary, trace)

@@ -6,7 +6,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
-from arenas import Arena
+from arenas import Arena, Floor
 
 from .episode import Episode
 from .green import Field
@@ -34,6 +34,12 @@ def _route(trace) -> np.ndarray:
     return np.vstack([np.asarray(r["route"]) for r in trace])
 
 
+def _replans(trace) -> np.ndarray:
+    """Positions where a car re-planned its path over the given records, shape (n, 2)."""
+    pts = [np.asarray(p, dtype=float)[:2] for r in trace for p in r.get("replans", ())]
+    return np.array(pts).reshape(-1, 2)
+
+
 def _triangulation(imaging: ImagingMap) -> Triangulation:
     return Triangulation(imaging.nodes[:, 0], imaging.nodes[:, 1], imaging.triangles)
 
@@ -44,7 +50,8 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
 
     Background: ``P_M`` after the step; black: the newest level set ``{v_k = I_k}``;
     white: the boundary of ``{P_M >= eps}``; red circles: measurement points; blue
-    line: the path; black cross: the next point; magenta diamond: the estimate;
+    line: the path (the car's true path on the testbed); small blue circles: where the
+    car re-planned its path; black cross: the next point; magenta diamond: the estimate;
     green star: the true source.
 
     Parameters
@@ -83,6 +90,8 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
             ax.plot(line[:, 0], line[:, 1], "w-", lw=1.5)
         path = _route(episode.trace[:k])
         ax.plot(path[:, 0], path[:, 1], "-", color="tab:blue", lw=1.2)
+        replans = _replans(episode.trace[:k])
+        ax.plot(replans[:, 0], replans[:, 1], "o", mfc="none", mec="tab:blue", ms=4, mew=1)
         ax.plot(sub.points[:, 0], sub.points[:, 1], "o", mfc="none", mec="red", ms=7, mew=1.5)
         nxt = episode.trace[k - 1].get("next")
         if nxt is not None:
@@ -96,25 +105,35 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
     return fig
 
 
-def gradient_run_figure(episode: Episode, field: Field, arena: Arena,
-                        gradients=()) -> Figure:
+def gradient_run_figure(episode: Episode, field: Field | None, arena: Arena,
+                        gradients=(), *, floor: Floor | None = None) -> Figure:
     """A gradient-ascent run over the grey-scale signal, as in the paper's Fig. 5.
 
-    Grey background: the signal (lighter = stronger); green: the path; magenta circles:
-    signal measurements; red arrows: gradient estimates; green star: the true source.
+    Grey background: the painted floor when `floor` is given, else the signal clipped to
+    0-255 (lighter = stronger); green: the path; magenta circles: signal measurements;
+    red circles and arrows: where gradients were estimated, and their directions; blue
+    circles: where a car re-planned; green star: the true source.
     """
     fig = Figure(figsize=(6, 5.4), layout="constrained")
     ax = fig.add_subplot()
-    x, y, u = field.on_grid(1.0)
     (x0, x1), (y0, y1) = arena.bounds
-    ax.set_facecolor("0.25")  # cells inside obstacles are NaN: show them as obstacles
-    ax.imshow(np.clip(u, 0, 255), origin="lower", extent=[x0, x1, y0, y1], cmap="gray",
-              vmin=0, vmax=255, interpolation="nearest")
+    if floor is not None:
+        floor.plot(ax)
+    else:
+        x, y, u = field.on_grid(1.0)
+        ax.set_facecolor("0.25")  # cells inside obstacles are NaN: show them as obstacles
+        ax.imshow(np.clip(u, 0, 255), origin="lower", extent=[x0, x1, y0, y1], cmap="gray",
+                  vmin=0, vmax=255, interpolation="nearest")
     draw_arena(ax, arena)
     path = _route(episode.trace)
     ax.plot(path[:, 0], path[:, 1], "-", color="limegreen", lw=1.5)
     sig = np.array([np.atleast_2d(r["points"])[-1] for r in episode.trace if r["kind"] == "signal"])
     ax.plot(sig[:, 0], sig[:, 1], "o", mfc="none", mec="magenta", ms=7, mew=1.5)
+    replans = _replans(episode.trace)
+    ax.plot(replans[:, 0], replans[:, 1], "o", mfc="none", mec="tab:blue", ms=4, mew=1)
+    if len(gradients):
+        at = np.array([p for p, _ in gradients]).reshape(-1, 2)
+        ax.plot(at[:, 0], at[:, 1], "o", mfc="none", mec="red", ms=7, mew=1.5)
     for p, g in gradients:
         g = np.asarray(g)
         u_ = 8.0 * g / max(np.hypot(*g), 1e-12)

@@ -16,7 +16,18 @@ from .errors import SearchError
 from .green import Field, GreenSolver
 from .strategies.base import Request
 
-__all__ = ["Platform", "PointPlatform"]
+__all__ = ["Platform", "PointPlatform", "check_request"]
+
+
+def check_request(arena: Arena, request: Request) -> np.ndarray:
+    """The request's points as an (n, 2) array; SearchError if one is outside the free region."""
+    pts = np.atleast_2d(np.asarray(request.points, dtype=float))
+    inside = arena.contains(pts)
+    if not inside.all():
+        bad = pts[~inside][0]
+        raise SearchError(f"requested point ({bad[0]:.4g}, {bad[1]:.4g}) cm is not in the "
+                          "free region")
+    return pts
 
 
 class Platform(ABC):
@@ -37,6 +48,17 @@ class Platform(ABC):
     source: np.ndarray
     #: The way travelled during the last :meth:`visit`, shape (n, 2), cm.
     last_route: list
+
+    #: Name recorded in the episode summary.
+    name: str = "platform"
+
+    def step_log(self) -> dict:
+        """Platform-specific records of the last :meth:`visit` for the episode trace."""
+        return {}
+
+    def summary(self) -> dict:
+        """Platform-specific keys for the episode summary (e.g. time driven, collisions)."""
+        return {}
 
     @abstractmethod
     def reset(self, start: np.ndarray, rng: np.random.Generator) -> None:
@@ -69,6 +91,8 @@ class PointPlatform(Platform):
     the shortest path along the edges of the solver's mesh (an upper bound on the true
     geodesic, within a few per cent on a quality mesh).
     """
+
+    name = "point"
 
     def __init__(self, solver: GreenSolver, source, strength: float, noise: float = 12.0):
         if not np.isfinite(noise) or noise < 0:
@@ -110,11 +134,7 @@ class PointPlatform(Platform):
         return float(np.sum(np.hypot(*np.diff(self.route(a, b), axis=0).T)))
 
     def visit(self, request: Request) -> tuple[np.ndarray, np.ndarray]:
-        pts = np.atleast_2d(np.asarray(request.points, dtype=float))
-        if not self.arena.contains(pts).all():
-            bad = pts[~self.arena.contains(pts)][0]
-            raise SearchError(f"requested point ({bad[0]:.4g}, {bad[1]:.4g}) cm is not in the "
-                              "free region")
+        pts = check_request(self.arena, request)
         readings = np.empty(len(pts))
         self.last_route = [self.pose[:2].copy()]
         for k, p in enumerate(pts):

@@ -2,18 +2,22 @@
 
 from __future__ import annotations
 
+from dataclasses import fields
 from functools import lru_cache
 
+import numpy as np
 
-from arenas import Arena
+from arenas import Arena, CarSpec, Floor, Testbed, render_floor
 
 from .episode import Episode, run_episode
 from .errors import SearchError
 from .green import GreenSolver
-from .platforms import PointPlatform
+from .car_platform import CarPlatform, DrivingOptions
+from .platforms import Platform, PointPlatform
 from .strategies import STRATEGIES, Strategy
 
-__all__ = ["PLATFORMS", "make_strategy", "search", "cached_solver", "TRUTH_MESH_RATIO"]
+__all__ = ["PLATFORMS", "make_strategy", "make_car_platform", "search", "cached_solver",
+           "cached_floor", "TRUTH_MESH_RATIO", "CAR_KEYS"]
 
 PLATFORMS = ("point", "car")
 
@@ -26,6 +30,57 @@ TRUTH_MESH_RATIO = 0.7
 def cached_solver(arena: Arena, h: float, order: int = 1) -> GreenSolver:
     """A :class:`GreenSolver` shared across episodes on the same arena object."""
     return GreenSolver(arena, h=h, order=order)
+
+
+@lru_cache(maxsize=4)
+def _floor(arena: Arena, source: tuple, strength: float, h: float, px_per_mm: float) -> Floor:
+    field = cached_solver(arena, h).field(np.array(source), strength)
+    return render_floor(arena, field, px_per_mm=px_per_mm)
+
+
+def cached_floor(arena: Arena, source, strength: float, *, h: float = 1.0 * TRUTH_MESH_RATIO,
+                 px_per_mm: float = 1.0) -> Floor:
+    """The testbed floor painted from the true field (FEM mesh size `h` cm), cached."""
+    return _floor(arena.without_scenario(), tuple(float(v) for v in source), float(strength),
+                  float(h), float(px_per_mm))
+
+
+#: Keys accepted by :func:`make_car_platform` (and ``search(car=...)``): the driving
+#: options, the car's specification and the floor resolution.
+CAR_KEYS = tuple(f.name for f in fields(DrivingOptions)) + tuple(f.name for f in fields(CarSpec)) + (
+    "px_per_mm",)
+
+
+def make_car_platform(arena: Arena, *, h: float = 1.0, progress: bool = False, **car) -> CarPlatform:
+    """The car observer on `arena` (with its true source and strength set).
+
+    Parameters
+    ----------
+    arena : Arena
+        With its true source and strength.
+    h : float
+        Mesh size of the strategy; the floor is painted from a field on a mesh
+        :data:`TRUTH_MESH_RATIO` times finer.
+    progress : bool
+        Progress bar while a value-function bank is built.
+    **car
+        Any of :data:`CAR_KEYS`: :class:`DrivingOptions` fields (``planner``,
+        ``replan_every``, ...), :class:`arenas.CarSpec` fields (``rho``, ``speed``, ...),
+        and ``px_per_mm``, the floor resolution.
+    """
+    unknown = sorted(set(car) - set(CAR_KEYS))
+    if unknown:
+        raise SearchError(f"unknown car option(s) {', '.join(unknown)}; choose from {', '.join(CAR_KEYS)}")
+    drive_keys = {f.name for f in fields(DrivingOptions)}
+    spec_keys = {f.name for f in fields(CarSpec)}
+    try:
+        options = DrivingOptions(**{k: v for k, v in car.items() if k in drive_keys})
+        spec = CarSpec(**{k: v for k, v in car.items() if k in spec_keys})
+    except TypeError as exc:
+        raise SearchError(f"bad car option: {exc}") from None
+    floor = cached_floor(arena, arena.source, arena.strength, h=h * TRUTH_MESH_RATIO,
+                         px_per_mm=float(car.get("px_per_mm", 1.0)))
+    return CarPlatform(Testbed(arena, floor, car=spec), arena.source, options, progress=progress)
 
 
 def make_strategy(name: str, solver: GreenSolver | None = None, **params) -> Strategy:
@@ -41,7 +96,7 @@ def make_strategy(name: str, solver: GreenSolver | None = None, **params) -> Str
 def search(arena: Arena, strategy: str = "reciprocity", *, source=None,
            strength: float | None = None, start=None, platform: str = "point",
            seed: int = 0, noise: float = 12.0, h: float = 1.0, params: dict | None = None,
-           progress=None) -> tuple[Episode, Strategy, PointPlatform]:
+           car: dict | None = None, progress=None) -> tuple[Episode, Strategy, Platform]:
     """Run one episode by names.
 
     Parameters
@@ -65,7 +120,10 @@ def search(arena: Arena, strategy: str = "reciprocity", *, source=None,
     h : float
         Mesh size of the strategy's solver, cm.
     params : dict, optional
-        Strategy parameters.
+        Strategy parameters. On the car the strategy's ``clearance`` defaults to the
+        car's, so that it only proposes points where the car can stand.
+    car : dict, optional
+        Car options (see :func:`make_car_platform`); only with ``platform="car"``.
     progress : callable, optional
         Per-step callback.
 
@@ -75,15 +133,19 @@ def search(arena: Arena, strategy: str = "reciprocity", *, source=None,
     """
     if platform not in PLATFORMS:
         raise SearchError(f"unknown platform {platform!r}; choose one of {PLATFORMS}")
-    if platform == "car":
-        raise SearchError("the car platform needs the simulated testbed, which is not built "
-                          "yet; use --platform point")
+    if car and platform != "car":
+        raise SearchError("car options need platform='car'")
     arena = arena.with_scenario(source=source, strength=strength, start=start)
     if arena.source is None:
         raise SearchError(f"arena {arena.name!r} has no true source: pass source=(x, y)")
     solver = cached_solver(arena.without_scenario(), float(h))
     truth = cached_solver(arena.without_scenario(), float(h) * TRUTH_MESH_RATIO)
-    strat = make_strategy(strategy, solver, **(params or {}))
-    plat = PointPlatform(truth, arena.source, arena.strength, noise)
+    params = dict(params or {})
+    if platform == "car":
+        plat = make_car_platform(arena, h=float(h), progress=progress is not None, **(car or {}))
+        params.setdefault("clearance", plat.options.clearance)
+    else:
+        plat = PointPlatform(truth, arena.source, arena.strength, noise)
+    strat = make_strategy(strategy, solver, **params)
     episode = run_episode(arena, strat, plat, start=arena.start, seed=seed, progress=progress)
     return episode, strat, plat

@@ -9,7 +9,10 @@ import numpy as np
 
 from arenas import Arena
 
-__all__ = ["Request", "Strategy"]
+__all__ = ["Request", "Strategy", "MAX_REJECTIONS"]
+
+#: A strategy gives up after this many unreachable targets in one search.
+MAX_REJECTIONS = 20
 
 
 @dataclass
@@ -23,10 +26,17 @@ class Request:
     kind : str
         ``"signal"`` (a measurement the strategy counts as one of its observations) or
         ``"gradient"`` (extra samples around the current point for a gradient estimate).
+    motion : str
+        How a car should get there: ``"plan"`` (the optimal path of the HJ planner),
+        ``"manoeuvre"`` (the paper's short reverse, then forward and to the side, for the
+        three gradient samples; the points are nominal) or ``"bangbang"`` (a step toward
+        the point with the bang-bang action nearest to its direction). A point observer
+        ignores it.
     """
 
     points: np.ndarray
     kind: str = "signal"
+    motion: str = "plan"
 
 
 @dataclass
@@ -54,6 +64,7 @@ class Strategy(ABC):
         self.status = Status()
         self.n_measurements = 0
         self.n_samples = 0
+        self.n_rejected = 0
 
     @abstractmethod
     def start(self, arena: Arena, pose: np.ndarray, rng: np.random.Generator) -> None:
@@ -66,6 +77,22 @@ class Strategy(ABC):
     @abstractmethod
     def observe(self, request: Request, points: np.ndarray, readings: np.ndarray) -> None:
         """Receive the readings taken for `request` at `points` (as reached), cm."""
+
+    def reject(self, request: Request, point: np.ndarray, reason: str) -> None:
+        """The platform cannot reach `point` of `request` (cm); `reason` says why.
+
+        Strategies that can choose another point override this; by default the search
+        stops with the reason as its stop reason.
+        """
+        self.done, self.stop_reason = True, f"unreachable target: {reason}"
+
+    def _count_rejection(self, reason: str) -> bool:
+        """Count a rejected target; True (and stop) once there were too many."""
+        self.n_rejected += 1
+        if self.n_rejected > MAX_REJECTIONS:
+            self.done = True
+            self.stop_reason = f"gave up after {MAX_REJECTIONS} unreachable targets (last: {reason})"
+        return self.done
 
     @property
     def estimate(self) -> np.ndarray | None:

@@ -143,7 +143,7 @@ class GradientStrategy(Strategy):
             if self.i_max is None and r_est <= self.stop_radius:
                 self.done, self.stop_reason = True, "gradient puts the source within stop_radius"
                 return
-            self._pending = Request(self._gradient_step(g)[None, :], "signal")
+            self._pending = Request(self._gradient_step(g)[None, :], "signal", "bangbang")
             return
         new = points[-1]
         if np.hypot(*(new - self.position)) > 1e-9:
@@ -163,7 +163,23 @@ class GradientStrategy(Strategy):
             else:
                 self._pending = Request(nxt[None, :], "signal")
         else:
-            self._pending = Request(self._gradient_samples(), "gradient")
+            self._pending = Request(self._gradient_samples(), "gradient", "manoeuvre")
+
+    def reject(self, request: Request, point: np.ndarray, reason: str) -> None:
+        """While exploring, exclude the unreachable point's neighbourhood and explore
+        elsewhere; an unreachable gradient step or manoeuvre ends the search."""
+        exploring = request.motion == "plan" and self.reading is not None and self.reading < self.i_min
+        if self._count_rejection(reason):
+            return
+        if not exploring:
+            super().reject(request, point, reason)
+            return
+        self._reachable &= ~self.candidates.around(point, max(0.5 * self.d, self.solver.h))
+        nxt = self._explore()
+        if nxt is None:
+            self.done, self.stop_reason = True, "no admissible exploration point left"
+        else:
+            self._pending = Request(nxt[None, :], "signal")
 
     def _explore(self) -> np.ndarray | None:
         """Lines 9-12: nearest admissible point at least d from all samples."""

@@ -191,6 +191,21 @@ class ReciprocityStrategy(Strategy):
                 self._next = nxt
         self.status.extra["next"] = None if self.done else self._next.tolist()
 
+    def reject(self, request: Request, point: np.ndarray, reason: str) -> None:
+        """Exclude the neighbourhood of an unreachable target and choose again."""
+        if self._count_rejection(reason):
+            return
+        if not len(self.imaging.points):
+            super().reject(request, point, reason)
+            return
+        self._reachable &= ~self.candidates.around(point, max(0.5 * self.d, self.solver.h))
+        nxt = self.next_point()
+        if nxt is None:
+            self.done, self.stop_reason = True, "no admissible observation point left"
+        else:
+            self._next = nxt
+        self.status.extra["next"] = None if self.done else self._next.tolist()
+
     def next_point(self) -> np.ndarray | None:
         """Step 13: the next observation point (cm), or None if none is admissible."""
         im, cand = self.imaging, self.candidates

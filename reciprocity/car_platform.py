@@ -1,0 +1,382 @@
+"""The car observer: the simulated micro-car driven by Hamilton-Jacobi value functions.
+
+:class:`CarPlatform` is the controller of the paper's testbed (Landa et al., section V)
+behind the same :class:`~reciprocity.platforms.Platform` interface as the point observer.
+For each requested point it
+
+1. gets the value function of the target (on demand, or the nearest of a precomputed
+   bank, as the paper does),
+2. reads the optimal path off it from the camera's estimate of the pose and drives it,
+   steering by the feedback law ``u = -v sign(φ_θ)`` (eq. (15), with ``v`` the gear of
+   the path: the car may reverse), re-planning every `replan_every` cm (the paper's blue
+   circles) and at every change of gear,
+3. stops at the target, dwells and averages the sensor (:meth:`arenas.Testbed.dwell`).
+
+Gradient samples are taken by the paper's manoeuvre (a short reverse, then forward and
+to the side) and gradient steps by bang-bang steering among the six actions. The
+controller knows only the camera's estimates and the calibrated readings.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from arenas import Arena, Testbed
+from arenas.testbed import dead_reckon
+from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank, optimal_path
+
+from .errors import SearchError, UnreachableTarget
+from .platforms import Platform, check_request
+from .strategies.base import Request
+
+__all__ = ["CarPlatform", "DrivingOptions", "PLANNERS"]
+
+#: How the car gets the value function of a target.
+PLANNERS = ("on-demand", "bank")
+
+#: Six bang-bang actions (steer, direction): left / straight / right x forward / reverse.
+ACTIONS = tuple((u, v) for v in (1, -1) for u in (1, 0, -1))
+
+
+@dataclass(frozen=True)
+class DrivingOptions:
+    """How the car is driven (lengths in cm, times in s).
+
+    Attributes
+    ----------
+    planner : {"on-demand", "bank"}
+        ``"on-demand"`` solves the value function of each requested point (exact
+        targets); ``"bank"`` uses the nearest of value functions precomputed on a lattice
+        of targets `bank_spacing` apart (the paper's approach: the car then measures at
+        the lattice point nearest to the requested one).
+    h, ntheta : float, int
+        Grid of the value functions (cm, headings).
+    clearance : float
+        Distance the car's centre keeps from every wall: at least half the car's
+        diagonal (4.0 cm for the 7 x 3.8 cm car) so that no turn touches a wall.
+    bank_spacing : float
+        Lattice spacing of the bank, cm (the paper: 12.7).
+    cache_dir : str, optional
+        Where the bank keeps its value functions (default ``~/.cache/hjplanner``).
+    replan_every : float
+        Distance driven between re-plans, cm.
+    stop_tol : float
+        The car stops when its centre is this close to the target, cm.
+    dwell : float
+        Duration of a stationary measurement, s (30 sensor samples at 30 Hz).
+    dead_band : float, optional
+        Dead band of the steering law on ``|φ_θ|``; default ``0.05 ρ``.
+    manoeuvre_reverse, manoeuvre_forward : float
+        Arc lengths of the gradient manoeuvre: straight back, then forward at full lock.
+    bang_step : float
+        Distance between decisions of the bang-bang steering, cm.
+    """
+
+    planner: str = "on-demand"
+    h: float = 1.5
+    ntheta: int = 48
+    clearance: float = 4.0
+    bank_spacing: float = 12.7
+    cache_dir: str | None = None
+    replan_every: float = 10.0
+    stop_tol: float = 1.5
+    dwell: float = 1.0
+    dead_band: float | None = None
+    manoeuvre_reverse: float = 5.0
+    manoeuvre_forward: float = 8.0
+    bang_step: float = 2.0
+
+    def __post_init__(self):
+        if self.planner not in PLANNERS:
+            raise SearchError(f"planner must be one of {PLANNERS}; got {self.planner!r}")
+        for key in ("h", "clearance", "bank_spacing", "replan_every", "stop_tol", "dwell",
+                    "manoeuvre_reverse", "manoeuvre_forward", "bang_step"):
+            val = getattr(self, key)
+            if not isinstance(val, (int, float)) or not np.isfinite(val) or val <= 0:
+                raise SearchError(f"driving option {key} must be a positive number; got {val!r}")
+        if int(self.ntheta) < 8:
+            raise SearchError(f"ntheta must be at least 8 headings; got {self.ntheta!r}")
+
+
+class CarPlatform(Platform):
+    """The micro-car on the simulated testbed, as an observer for any strategy.
+
+    Parameters
+    ----------
+    testbed : arenas.Testbed
+        Floor, sensor, car and camera.
+    source : array_like, shape (2,)
+        The true source (for the episode's error only; the car never uses it).
+    options : DrivingOptions
+        Planner and controller settings.
+    progress : bool
+        Show a progress bar while a value-function bank is built.
+    """
+
+    name = "car"
+
+    def __init__(self, testbed: Testbed, source, options: DrivingOptions | None = None, *,
+                 progress: bool = False):
+        self.testbed = testbed
+        self.arena: Arena = testbed.arena
+        self.source = np.asarray(source, dtype=float)
+        self.options = options or DrivingOptions()
+        o, rho = self.options, testbed.spec.rho
+        common = dict(rho=rho, h=o.h, ntheta=int(o.ntheta), clearance=o.clearance, reverse=True)
+        if o.planner == "bank":
+            self.bank = ValueFunctionBank(self.arena.without_scenario(), o.bank_spacing,
+                                          cache_dir=o.cache_dir, **common)
+            if self.bank.missing():
+                self.bank.build(progress=progress)
+            self._value_function = self.bank.nearest
+        else:
+            self.planner = OnDemandPlanner(self.arena.without_scenario(), maxsize=8, **common)
+            self._value_function = self.planner.get
+        self.dead_band = 0.05 * rho if o.dead_band is None else float(o.dead_band)
+
+    # -- Platform interface -------------------------------------------------------------
+    def reset(self, start, rng: np.random.Generator) -> None:
+        s = np.asarray(start, dtype=float).ravel()
+        self.pose = self.testbed.reset([s[0], s[1], s[2] if len(s) > 2 else 0.0], rng)
+        self.path_length = 0.0
+        self.last_route = [self.testbed.car.pose[:2].copy()]
+        self._collisions_seen = 0
+        self._log = self._new_log()
+        self.testbed.take_log()
+
+    def visit(self, request: Request) -> tuple[np.ndarray, np.ndarray]:
+        pts = check_request(self.arena, request)
+        self._log = self._new_log()
+        try:
+            if request.motion == "manoeuvre":
+                measured = self._manoeuvre(len(pts))
+            else:
+                measured = []
+                for p in pts:
+                    if request.motion == "bangbang":
+                        self._bang_bang(p)
+                    else:
+                        self._drive_to(p)
+                    measured.append(self._measure())
+        finally:
+            self._close_visit()
+        return (np.array([m.point for m in measured]), np.array([m.intensity for m in measured]))
+
+    def step_log(self) -> dict:
+        return self._log
+
+    def summary(self) -> dict:
+        tb = self.testbed
+        return dict(sim_time_s=tb.time, collisions=len(tb.car.collisions),
+                    driving=asdict(self.options), rho=tb.spec.rho, speed=tb.spec.speed,
+                    calibration_noise=float(tb.calibration.noise))
+
+    # -- bookkeeping -------------------------------------------------------------------
+    @staticmethod
+    def _new_log() -> dict:
+        return dict(replans=[], plans=[], measurements=[], collisions=[], events=[])
+
+    def _close_visit(self) -> None:
+        tb = self.testbed
+        log = tb.take_log()
+        self._log.update(times=log["times"], true_poses=log["true_poses"],
+                         estimated_poses=log["estimated_poses"],
+                         camera_misses=int((~log["detected"]).sum()), sim_time=tb.time)
+        self._log["collisions"] = tb.car.collisions[self._collisions_seen:]
+        self._collisions_seen = len(tb.car.collisions)
+        self.last_route = [self.last_route[-1]] + list(log["true_poses"][:, :2])
+        self.path_length = tb.car.odometer
+        self.pose = tb.estimate.copy()
+
+    def _measure(self):
+        m = self.testbed.dwell(self.options.dwell)
+        self._log["measurements"].append(m.to_dict())
+        return m
+
+    def _event(self, text: str) -> None:
+        self._log["events"].append(dict(time=self.testbed.time, text=text))
+
+    def _tick(self, steer: float, direction: int) -> np.ndarray:
+        return self.testbed.tick(steer, direction)
+
+    def _ticks_for(self, distance: float) -> int:
+        per_tick = self.testbed.spec.speed * self.testbed.period
+        return max(1, int(np.ceil(distance / per_tick - 1e-9)))
+
+    # -- Algorithm 1: drive to a point with the HJ value function ----------------------
+    def _standable(self, target: np.ndarray) -> np.ndarray:
+        """The target, or the nearest point within 3 cm that keeps the clearance (plus
+        one grid cell); UnreachableTarget if there is none."""
+        need = self.options.clearance + 0.75 * self.options.h
+        if self.arena.wall_distance(target[None])[0] >= need and self.arena.contains(target[None])[0]:
+            return target
+        for r in np.arange(0.5, 3.01, 0.5):
+            ang = np.linspace(0, 2 * np.pi, int(8 + 4 * r), endpoint=False)
+            ring = target + r * np.column_stack([np.cos(ang), np.sin(ang)])
+            ok = self.arena.contains(ring) & (self.arena.wall_distance(ring) >= need)
+            if ok.any():
+                return ring[np.flatnonzero(ok)[0]]
+        raise UnreachableTarget(target, (
+            f"target ({target[0]:.1f}, {target[1]:.1f}) cm is closer than the car's clearance of "
+            f"{self.options.clearance:g} cm to a wall: the car cannot stand there"))
+
+    def _drive_to(self, target: np.ndarray) -> None:
+        o, tb = self.options, self.testbed
+        goal = self._standable(np.asarray(target, dtype=float))
+        try:
+            vf = self._value_function(goal)
+        except PlanningError as exc:
+            raise UnreachableTarget(target, f"no value function for target ({target[0]:.1f}, "
+                                    f"{target[1]:.1f}) cm: {exc}") from None
+        goal = vf.target
+        est = tb.estimate.copy()
+        if not np.isfinite(vf(*est)) and not self._unstick(vf):
+            raise UnreachableTarget(target, (
+                f"target ({target[0]:.1f}, {target[1]:.1f}) cm cannot be reached from the car's "
+                f"pose ({est[0]:.1f}, {est[1]:.1f}): it is enclosed, or behind a gap narrower "
+                f"than twice the clearance of {o.clearance:g} cm"))
+        est = tb.estimate.copy()
+        budget = 2.0 * float(vf(*est)) + 60.0
+        step = tb.spec.speed * tb.period
+        driven, gear_at, plan_s = 0.0, None, 0.0
+        since_plan = np.inf
+        dist = np.hypot(*(est[:2] - goal))
+        while dist > o.stop_tol:
+            if driven > budget:
+                self._event(f"gave up on target ({goal[0]:.1f}, {goal[1]:.1f}) after {driven:.0f} cm, "
+                            f"{dist:.1f} cm short")
+                break
+            if since_plan >= o.replan_every or (gear_at is not None and plan_s >= gear_at[0][0]):
+                gear_at = self._replan(vf, est)
+                if gear_at is None:
+                    if not self._unstick(vf):
+                        self._event("lost the value function: measuring where the car stands")
+                        break
+                    est = tb.estimate.copy()
+                    continue
+                since_plan, plan_s = 0.0, 0.0
+            ends, gears = gear_at
+            v = int(gears[min(np.searchsorted(ends, plan_s, side="right"), len(gears) - 1)])
+            est_new = self._tick(self._steer(vf, est, v), v)
+            driven += step
+            since_plan += step
+            plan_s += step
+            new_dist = np.hypot(*(est_new[:2] - goal))
+            est = est_new
+            if new_dist > dist and dist < 3 * o.stop_tol:
+                break  # past the closest approach: stop rather than loop around
+            dist = new_dist
+
+    def _replan(self, vf, est: np.ndarray):
+        """The optimal path from the estimated pose: (arc length at the end of each gear
+        stretch, gear of each stretch), or None if the pose cannot reach the target."""
+        try:
+            path = optimal_path(vf, est)
+        except PlanningError:
+            return None
+        self._log["replans"].append(est.tolist())
+        self._log["plans"].append(path.xy[:: max(1, len(path.xy) // 60)].tolist())
+        if len(path.direction) == 0:
+            return np.array([np.inf]), np.array([1])
+        s = np.cumsum(path.step_lengths)
+        switch = np.flatnonzero(np.diff(path.direction)) if len(path.direction) > 1 else np.array([], int)
+        ends = np.append(s[switch], np.inf)
+        gears = np.append(path.direction[switch], path.direction[-1])
+        return ends, gears
+
+    def _steer(self, vf, est: np.ndarray, v: int) -> float:
+        """Eq. (15) for gear v: ``u = -v sign(φ_θ)``, straight inside the dead band."""
+        d_theta = float(vf.dtheta(*est))
+        if not np.isfinite(d_theta):
+            return float(-v * np.sign(d_theta)) if d_theta != 0 else 0.0
+        if abs(d_theta) <= self.dead_band:
+            return 0.0
+        return float(-v * np.sign(d_theta))
+
+    def _unstick(self, vf, attempts: int = 8) -> bool:
+        """Drift brought the estimated pose where φ = inf (inside the clearance band, or
+        facing a wall too close to turn): back out with the straight move that leads to
+        a finite φ. False if none does."""
+        tb = self.testbed
+        for _ in range(attempts):
+            est = tb.estimate
+            if np.isfinite(vf(*est)):
+                return True
+            best, best_val = None, np.inf
+            for u, v in ACTIONS:
+                for dist in (2.0, 4.0):
+                    end = dead_reckon(est, u, v, dist, tb.spec.rho)
+                    val = float(vf(*end))
+                    if val + dist < best_val:
+                        best, best_val = (u, v, dist), val + dist
+            if best is None:
+                return False
+            u, v, dist = best
+            self._event(f"unstick: {'reverse' if v < 0 else 'forward'} {dist:g} cm, steer {u:+d}")
+            for _ in range(self._ticks_for(dist)):
+                self._tick(u, v)
+        return bool(np.isfinite(vf(*tb.estimate)))
+
+    # -- Algorithm 2: gradient manoeuvre and bang-bang steps ---------------------------
+    def _drive(self, steer: float, direction: int, distance: float) -> None:
+        for _ in range(self._ticks_for(distance)):
+            self._tick(steer, direction)
+
+    def _free(self, pose: np.ndarray, margin: float) -> bool:
+        return bool(self.arena.contains(pose[None, :2], margin)[0])
+
+    def _manoeuvre(self, n: int) -> list:
+        """The paper's gradient manoeuvre: a short reverse, measure; forward and to the
+        side, measure. Where a wall is behind, the mirror image (forward, then reverse to
+        the side). Returns the measurements."""
+        o, tb = self.options, self.testbed
+        rho, margin = tb.spec.rho, 0.5 * np.hypot(tb.spec.length, tb.spec.width)
+        est = tb.estimate.copy()
+        plans = []
+        for first in (-1, 1):
+            a = dead_reckon(est, 0.0, first, o.manoeuvre_reverse, rho)
+            for side in (1, -1):
+                b = dead_reckon(a, side, -first, o.manoeuvre_forward, rho)
+                mid = dead_reckon(a, side, -first, 0.5 * o.manoeuvre_forward, rho)
+                if all(self._free(p, margin) for p in (a, b, mid)):
+                    plans.append((first, side, self.arena.wall_distance(b[None, :2])[0]))
+        if not plans:
+            self._event("no room for the gradient manoeuvre: measuring in place")
+            first, side = -1, 1
+            legs = [(0.0, first, 0.3 * o.manoeuvre_reverse), (side, -first, 0.3 * o.manoeuvre_forward)]
+        else:
+            first, side, _ = max(plans, key=lambda p: (p[0] == -1, p[2]))
+            legs = [(0.0, first, o.manoeuvre_reverse), (side, -first, o.manoeuvre_forward)]
+        measured = []
+        for steer, direction, dist in legs[:n]:
+            self._drive(steer, direction, dist)
+            measured.append(self._measure())
+        return measured
+
+    def _bang_bang(self, target: np.ndarray) -> None:
+        """Step toward `target` choosing, every `bang_step` cm, the one of the six actions
+        whose chord points nearest to the target's direction (section II of the paper)."""
+        o, tb = self.options, self.testbed
+        rho, margin = tb.spec.rho, 0.5 * tb.spec.width + 0.5
+        est = tb.estimate.copy()
+        length = float(np.hypot(*(target - est[:2])))
+        driven = 0.0
+        while driven < length and np.hypot(*(target - est[:2])) > o.stop_tol:
+            want = np.arctan2(*(target - est[:2])[::-1])
+            best, best_gap = None, np.inf
+            for u, v in ACTIONS:
+                end = dead_reckon(est, u, v, o.bang_step, rho)
+                if not self._free(end, margin):
+                    continue
+                chord = end[:2] - est[:2]
+                gap = abs((np.arctan2(chord[1], chord[0]) - want + np.pi) % (2 * np.pi) - np.pi)
+                if gap < best_gap:
+                    best, best_gap = (u, v), gap
+            if best is None:
+                self._event("bang-bang step blocked by walls")
+                break
+            self._drive(*best, o.bang_step)
+            driven += o.bang_step
+            est = tb.estimate.copy()
