@@ -54,8 +54,11 @@ class DrivingOptions:
     h, ntheta : float, int
         Grid of the value functions (cm, headings).
     clearance : float
-        Distance the car's centre keeps from every wall: at least half the car's
-        diagonal (4.0 cm for the 7 x 3.8 cm car) so that no turn touches a wall.
+        Distance the car's path keeps from every wall, cm. Half the car's width (1.9 cm)
+        plus a margin for drift; a turn next to a wall can still bring a corner (3.98 cm
+        from the centre) into contact, which is recorded as a collision. 4 cm keeps the
+        car off the walls; it closes the narrowest gaps of the ``paper`` arena on the
+        1.5 cm grid (3.5 cm opens them, but the car then scrapes and stalls along walls).
     bank_spacing : float
         Lattice spacing of the bank, cm (the paper: 12.7).
     cache_dir : str, optional
@@ -231,43 +234,63 @@ class CarPlatform(Platform):
             raise UnreachableTarget(target, f"no value function for target ({target[0]:.1f}, "
                                     f"{target[1]:.1f}) cm: {exc}") from None
         goal = vf.target
-        est = tb.estimate.copy()
+        est = self._virtual(vf, tb.estimate)
         if not np.isfinite(vf(*est)) and not self._unstick(vf):
             raise UnreachableTarget(target, (
                 f"target ({target[0]:.1f}, {target[1]:.1f}) cm cannot be reached from the car's "
                 f"pose ({est[0]:.1f}, {est[1]:.1f}): it is enclosed, or behind a gap narrower "
                 f"than twice the clearance of {o.clearance:g} cm"))
-        est = tb.estimate.copy()
+        est = self._virtual(vf, tb.estimate)
         budget = 2.0 * float(vf(*est)) + 60.0
         step = tb.spec.speed * tb.period
-        driven, gear_at, plan_s = 0.0, None, 0.0
-        since_plan = np.inf
-        dist = np.hypot(*(est[:2] - goal))
+        driven, gear_at, plan_s, since_plan = 0.0, None, 0.0, 0.0
+        dist = np.hypot(*(tb.estimate[:2] - goal))
         while dist > o.stop_tol:
             if driven > budget:
                 self._event(f"gave up on target ({goal[0]:.1f}, {goal[1]:.1f}) after {driven:.0f} cm, "
                             f"{dist:.1f} cm short")
                 break
-            if since_plan >= o.replan_every or (gear_at is not None and plan_s >= gear_at[0][0]):
+            if gear_at is None or since_plan >= o.replan_every or plan_s >= gear_at[0][0]:
                 gear_at = self._replan(vf, est)
                 if gear_at is None:
                     if not self._unstick(vf):
                         self._event("lost the value function: measuring where the car stands")
                         break
-                    est = tb.estimate.copy()
+                    est = self._virtual(vf, tb.estimate)
                     continue
                 since_plan, plan_s = 0.0, 0.0
             ends, gears = gear_at
             v = int(gears[min(np.searchsorted(ends, plan_s, side="right"), len(gears) - 1)])
-            est_new = self._tick(self._steer(vf, est, v), v)
+            new_est = self._tick(self._steer(vf, est, v), v)
             driven += step
             since_plan += step
             plan_s += step
-            new_dist = np.hypot(*(est_new[:2] - goal))
-            est = est_new
+            new_dist = np.hypot(*(new_est[:2] - goal))
+            est = self._virtual(vf, new_est)
             if new_dist > dist and dist < 3 * o.stop_tol:
                 break  # past the closest approach: stop rather than loop around
             dist = new_dist
+
+    def _virtual(self, vf, est: np.ndarray) -> np.ndarray:
+        """The pose the controller steers from: the estimate, or, when drift has taken it
+        into the clearance band around the walls (where φ = inf; optimal paths run
+        along the band's edge), the estimate moved out of the band along the wall
+        normal, by at most 2 cm."""
+        est = np.asarray(est, dtype=float)
+        if np.isfinite(vf(*est)):
+            return est.copy()
+        e = 0.05
+        probes = est[:2] + e * np.array([[1, 0], [-1, 0], [0, 1], [0, -1]])
+        d = self.arena.wall_distance(probes)
+        normal = np.array([d[0] - d[1], d[2] - d[3]])
+        if not np.hypot(*normal) > 0:
+            return est.copy()
+        normal /= np.hypot(*normal)
+        for shift in np.arange(0.25, 2.01, 0.25):
+            moved = np.array([est[0] + shift * normal[0], est[1] + shift * normal[1], est[2]])
+            if np.isfinite(vf(*moved)):
+                return moved
+        return est.copy()
 
     def _replan(self, vf, est: np.ndarray):
         """The optimal path from the estimated pose: (arc length at the end of each gear

@@ -121,7 +121,9 @@ def search(arena: Arena, strategy: str = "reciprocity", *, source=None,
         Mesh size of the strategy's solver, cm.
     params : dict, optional
         Strategy parameters. On the car the strategy's ``clearance`` defaults to the
-        car's, so that it only proposes points where the car can stand.
+        car's, so that it only proposes points where the car can stand, and the gradient
+        strategy's ``i_max`` to the top of the sensor's working range (it stops once the
+        sensor saturates, the paper's rule).
     car : dict, optional
         Car options (see :func:`make_car_platform`); only with ``platform="car"``.
     progress : callable, optional
@@ -144,6 +146,11 @@ def search(arena: Arena, strategy: str = "reciprocity", *, source=None,
     if platform == "car":
         plat = make_car_platform(arena, h=float(h), progress=progress is not None, **(car or {}))
         params.setdefault("clearance", plat.options.clearance)
+        if strategy == "gradient":
+            # the paper's stop rule, I_max: the top of the sensor's working range (the signal
+            # painted at grey 185). Above it the sensor saturates: the car is within a few
+            # cm of the source and no reading can tell it more.
+            params.setdefault("i_max", plat.testbed.floor.mapping.u_max)
     else:
         plat = PointPlatform(truth, arena.source, arena.strength, noise)
     strat = make_strategy(strategy, solver, **params)

@@ -34,7 +34,11 @@ def test_run_writes_summary_json_and_figures(tmp_path, capsys):
     (["run", "--arena", "paper", "--strategy", "gradient", "--start", "a,b"], "comma-separated"),
     (["run", "--arena", "paper", "--strategy", "reciprocity", "--set", "eps"], "KEY=VALUE"),
     (["run", "--arena", "paper", "--strategy", "reciprocity", "--set", "colour=3", "--h", "5"], "bad parameter"),
-    (["run", "--arena", "paper", "--strategy", "gradient", "--platform", "car"], "car platform"),
+    (["run", "--arena", "paper", "--strategy", "gradient", "--platform", "car", "--car", "wheels=6"],
+     "unknown car option"),
+    (["run", "--arena", "paper", "--strategy", "gradient", "--platform", "car", "--car", "planner=magic"],
+     "planner must be one of"),
+    (["run", "--arena", "paper", "--strategy", "gradient", "--platform", "car", "--car", "rho=-3"], "rho"),
 ])
 def test_bad_input_exits_2_with_a_message(argv, match, capsys):
     assert main(argv + ["--quiet"]) == 2

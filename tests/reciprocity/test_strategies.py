@@ -126,8 +126,10 @@ def test_bad_gradient_parameters():
         r.GradientStrategy(i_min=50, i_max=20)
     with pytest.raises(r.SearchError, match="unknown strategy"):
         search(arenas.load("empty"), "spiral")
-    with pytest.raises(r.SearchError, match="car platform"):
-        search(arenas.load("empty"), "gradient", platform="car")
+    with pytest.raises(r.SearchError, match="unknown car option"):
+        search(arenas.load("empty"), "gradient", platform="car", car={"wheels": 6})
+    with pytest.raises(r.SearchError, match="need platform='car'"):
+        search(arenas.load("empty"), "gradient", car={"rho": 12})
 
 
 def _strategy_with_belief(solver, arena, belief, **kw):
