@@ -379,21 +379,25 @@ class CarPlatform(Platform):
         return measured
 
     def _bang_bang(self, target: np.ndarray) -> None:
-        """Step toward `target` choosing, every `bang_step` cm, the one of the six actions
-        whose chord points nearest to the target's direction (section II of the paper)."""
+        """Step the sensor toward `target` choosing, every `bang_step` cm, the one of the
+        six actions whose chord points nearest to the target's direction (section II of
+        the paper)."""
         o, tb = self.options, self.testbed
         rho, margin = tb.spec.rho, 0.5 * tb.spec.width + 0.5
         est = tb.estimate.copy()
-        length = float(np.hypot(*(target - est[:2])))
+        length = float(np.hypot(*(target - tb.sensor.position(est)[0])))
         driven = 0.0
-        while driven < length and np.hypot(*(target - est[:2])) > o.stop_tol:
-            want = np.arctan2(*(target - est[:2])[::-1])
+        while driven < length:
+            spot = tb.sensor.position(est)[0]
+            if np.hypot(*(target - spot)) <= 0.5 * o.bang_step:
+                break
+            want = np.arctan2(*(target - spot)[::-1])
             best, best_gap = None, np.inf
             for u, v in ACTIONS:
                 end = dead_reckon(est, u, v, o.bang_step, rho)
                 if not self._free(end, margin):
                     continue
-                chord = end[:2] - est[:2]
+                chord = tb.sensor.position(end)[0] - spot
                 gap = abs((np.arctan2(chord[1], chord[0]) - want + np.pi) % (2 * np.pi) - np.pi)
                 if gap < best_gap:
                     best, best_gap = (u, v), gap

@@ -1,0 +1,113 @@
+"""The car observer: HJ driving, measurements through the sensor, unreachable targets."""
+
+import json
+
+import numpy as np
+import pytest
+
+import arenas
+import reciprocity as r
+from reciprocity.car_platform import CarPlatform, DrivingOptions
+from reciprocity.errors import UnreachableTarget
+from reciprocity.runner import make_car_platform, search
+from reciprocity.strategies.base import Request
+
+
+@pytest.fixture(scope="module")
+def small():
+    return arenas.Arena.from_polygons([[0, 0], [60, 0], [60, 60], [0, 60]], [[[24, 24], [32, 24], [32, 32], [24, 32]]],
+                                      name="small", source=(42.0, 15.0), strength=500.0, start=(10.0, 10.0, 0.0))
+
+
+@pytest.fixture(scope="module")
+def platform(small):
+    return make_car_platform(small, h=1.5, px_per_mm=0.5)
+
+
+def test_drives_to_a_point_and_measures_the_floor(platform, small):
+    platform.reset([10.0, 10.0, 0.0], np.random.default_rng(1))
+    target = np.array([45.0, 45.0])
+    pts, vals = platform.visit(Request(target[None]))
+    log = platform.step_log()
+    true_end = log["true_poses"][-1]
+    # the car centre stops within the tolerance plus the drift of one camera period
+    assert np.hypot(*(true_end[:2] - target)) < platform.options.stop_tol + 1.5
+    # the reported point is the sensor spot by the camera's estimate: 2 cm ahead of the car
+    m = log["measurements"][0]
+    assert np.hypot(*(np.array(m["point"]) - m["true_point"])) < 0.2
+    assert len(m["counts"]) == 30 and not m["saturated"]
+    # the calibrated reading matches the painted floor at the true spot, within the noise
+    # of a 30-sample mean (12 counts / sqrt(30) ~ 2.2 counts ~ 1 grey) and a grey or two of quantisation
+    floor = platform.testbed.floor
+    painted = floor.mapping.signal(floor.spot_grey(np.array([m["true_point"]]), 0.3))[0]
+    assert abs(vals[0] - painted) < 4.0 / floor.mapping.slope
+    assert platform.path_length > np.hypot(*(target - [10, 10])) - 5
+    assert log["replans"], "the path is re-planned on the way"
+    assert len(log["true_poses"]) == len(log["estimated_poses"]) == len(log["times"])
+    err = np.hypot(*(log["true_poses"][:, :2] - log["estimated_poses"][:, :2]).T)
+    assert np.median(err) < 0.2  # the controller steers on camera estimates
+
+
+def test_unreachable_target_is_reported(small):
+    # a pocket whose only opening is a 3 cm slot, narrower than twice the clearance
+    closed = arenas.Arena.from_polygons(
+        [[0, 0], [60, 0], [60, 60], [0, 60]],
+        [[[36, 36], [58, 36], [58, 38], [36, 38]], [[36, 38], [38, 38], [38, 58], [36, 58]],
+         [[38, 56], [58, 56], [58, 58], [38, 58]], [[56, 38], [58, 38], [58, 53], [56, 53]]],
+        name="closed", source=(20.0, 20.0), strength=500.0)
+    plat = make_car_platform(closed, h=1.5, px_per_mm=0.5)
+    plat.reset([10.0, 10.0, 0.0], np.random.default_rng(0))
+    with pytest.raises(UnreachableTarget, match="cannot be reached"):
+        plat.visit(Request(np.array([[47.0, 47.0]])))
+    with pytest.raises(UnreachableTarget, match="clearance"):
+        plat.visit(Request(np.array([[1.5, 30.0]])))
+
+
+def test_gradient_manoeuvre_and_bang_bang_step(platform):
+    platform.reset([30.0, 12.0, 0.0], np.random.default_rng(2))
+    start = platform.testbed.estimate.copy()
+    pts, _ = platform.visit(Request(np.array([[25.0, 12.0], [33.0, 15.0]]), "gradient", "manoeuvre"))
+    assert pts.shape == (2, 2)
+    first = platform.testbed.sensor.position(start)[0]
+    r.three_point_gradient(np.vstack([first, pts]), np.zeros(3))  # not collinear
+    assert pts[0][0] < first[0] - 3  # the first sample is taken after reversing
+    before = platform.testbed.estimate[:2].copy()
+    goal = before + np.array([0.0, 6.0])  # 90 degrees off the car's heading
+    platform.visit(Request(goal[None], "signal", "bangbang"))
+    after = platform.testbed.estimate[:2]
+    assert np.hypot(*(after - goal)) < np.hypot(*(before - goal))
+
+
+def test_car_episode_end_to_end_and_reproducible(small, tmp_path):
+    runs = [search(small, "reciprocity", platform="car", seed=3, h=1.5, car={"px_per_mm": 0.5}) for _ in range(2)]
+    (ep, strat, plat), (ep2, _, _) = runs
+    s = ep.summary
+    assert s["platform"] == "car" and s["success"], s
+    assert s["error"] < 5.0 and s["collisions"] == 0 and s["sim_time_s"] > 0
+    for key in ("n_measurements", "path_length", "estimate", "sim_time_s"):
+        assert s[key] == ep2.summary[key]
+    text = ep.to_json(tmp_path / "ep.json")
+    back = json.loads(text)
+    rec = back["trace"][-1]
+    for key in ("true_poses", "estimated_poses", "replans", "measurements", "collisions"):
+        assert key in rec
+    assert isinstance(rec["measurements"][0]["counts"][0], int)
+    from reciprocity.video import write_video
+    out = write_video(tmp_path / "run.mp4", ep, small, plat.testbed.floor.image, imaging=strat.imaging)
+    assert out.stat().st_size > 10_000
+
+
+def test_gradient_stops_at_sensor_saturation(small):
+    ep, strat, plat = search(small, "gradient", platform="car", seed=4, h=1.5, car={"px_per_mm": 0.5})
+    s = ep.summary
+    assert s["params"]["i_max"] == pytest.approx(plat.testbed.floor.mapping.u_max)
+    assert s["stop_reason"] == "signal above i_max" and s["error"] < 5.0, s
+    assert s["n_samples"] > s["n_measurements"]  # gradient samples were taken
+
+
+def test_driving_options_are_validated():
+    with pytest.raises(r.SearchError, match="planner must be one of"):
+        DrivingOptions(planner="astar")
+    with pytest.raises(r.SearchError, match="replan_every"):
+        DrivingOptions(replan_every=0)
+    assert CarPlatform.name == "car"
