@@ -70,6 +70,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--arena", default="paper")
     ap.add_argument("--runs", type=int, default=100)
+    ap.add_argument("--first", type=int, default=0,
+                    help="start at this run (to split a benchmark over processes; merge the files)")
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--noise", type=float, default=12.0)
     ap.add_argument("--h", type=float, default=1.0)
@@ -91,7 +93,7 @@ def main(argv=None) -> int:
     with out.open("a") as fh:
         for i, src, start in tqdm(list(pairs(arena, args.runs, args.seed)), desc="runs", file=sys.stderr):
             for name in names:
-                if (i, name) in done:
+                if i < args.first or (i, name) in done:
                     continue
                 ep, _, _ = search(arena, name, source=src, start=start, seed=args.seed + i,
                                   noise=args.noise, h=args.h, platform=args.platform, car=car)
@@ -101,7 +103,7 @@ def main(argv=None) -> int:
                 done[(i, name)] = row
     print(f"arena {args.arena!r}, {args.runs} random (source, start) pairs, noise sigma = {args.noise:g}, "
           f"mesh h = {args.h} cm, {args.platform} observer {args.car or ''}")
-    print(table([r for r in done.values() if r["run"] < args.runs]))
+    print(table([r for r in done.values() if args.first <= r["run"] < args.runs]))
     return 0
 
 

@@ -170,6 +170,20 @@ class CarPlatform(Platform):
     def step_log(self) -> dict:
         return self._log
 
+    def reachable(self, points: np.ndarray) -> np.ndarray | None:
+        """Points the car can reach from its pose: by symmetry of the reversible car, those
+        from which the value function of the car's own position is finite for some
+        heading (one HJ solve). None if the car's position is not a valid target."""
+        try:
+            vf = self._value_function(self._standable(self.testbed.estimate[:2].copy()))
+        except (PlanningError, UnreachableTarget):
+            return None
+        pts = np.asarray(points, dtype=float)
+        finite = np.zeros(len(pts), dtype=bool)
+        for th in np.linspace(0, 2 * np.pi, 8, endpoint=False):
+            finite |= np.isfinite(vf(pts[:, 0], pts[:, 1], np.full(len(pts), th), cubic=False))
+        return finite
+
     def summary(self) -> dict:
         tb = self.testbed
         return dict(sim_time_s=tb.time, collisions=len(tb.car.collisions),
@@ -275,7 +289,7 @@ class CarPlatform(Platform):
         """The pose the controller steers from: the estimate, or, when drift has taken it
         into the clearance band around the walls (where φ = inf; optimal paths run
         along the band's edge), the estimate moved out of the band along the wall
-        normal, by at most 2 cm."""
+        normal, by at most 3 cm."""
         est = np.asarray(est, dtype=float)
         if np.isfinite(vf(*est)):
             return est.copy()
@@ -286,7 +300,7 @@ class CarPlatform(Platform):
         if not np.hypot(*normal) > 0:
             return est.copy()
         normal /= np.hypot(*normal)
-        for shift in np.arange(0.25, 2.01, 0.25):
+        for shift in np.arange(0.25, 3.01, 0.25):
             moved = np.array([est[0] + shift * normal[0], est[1] + shift * normal[1], est[2]])
             if np.isfinite(vf(*moved)):
                 return moved
@@ -325,13 +339,15 @@ class CarPlatform(Platform):
         tb = self.testbed
         for _ in range(attempts):
             est = tb.estimate
-            if np.isfinite(vf(*est)):
+            if np.isfinite(vf(*self._virtual(vf, est))):
                 return True
             best, best_val = None, np.inf
             for u, v in ACTIONS:
-                for dist in (2.0, 4.0):
+                for dist in (2.0, 4.0, 6.0):
                     end = dead_reckon(est, u, v, dist, tb.spec.rho)
-                    val = float(vf(*end))
+                    if not self._free(end, 0.5 * tb.spec.width):
+                        continue
+                    val = float(vf(*self._virtual(vf, end)))
                     if val + dist < best_val:
                         best, best_val = (u, v, dist), val + dist
             if best is None:
@@ -340,7 +356,7 @@ class CarPlatform(Platform):
             self._event(f"unstick: {'reverse' if v < 0 else 'forward'} {dist:g} cm, steer {u:+d}")
             for _ in range(self._ticks_for(dist)):
                 self._tick(u, v)
-        return bool(np.isfinite(vf(*tb.estimate)))
+        return bool(np.isfinite(vf(*self._virtual(vf, tb.estimate))))
 
     # -- Algorithm 2: gradient manoeuvre and bang-bang steps ---------------------------
     def _drive(self, steer: float, direction: int, distance: float) -> None:

@@ -84,6 +84,7 @@ def run_episode(arena: Arena, strategy: Strategy, platform: Platform, *, start=N
     platform.reset(start, rng)
     # the strategy sees the geometry and the nominal strength, never the true source
     strategy.start(replace(arena, source=None), platform.pose.copy(), rng)
+    strategy.restrict(platform.reachable)
     trace = []
     while (request := strategy.propose()) is not None:
         try:

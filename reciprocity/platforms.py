@@ -52,6 +52,11 @@ class Platform(ABC):
     #: Name recorded in the episode summary.
     name: str = "platform"
 
+    def reachable(self, points: np.ndarray) -> np.ndarray | None:
+        """Mask of `points` (n, 2) the platform can reach from where it stands, or None
+        when it can reach the whole free region (the episode then adds no restriction)."""
+        return None
+
     def step_log(self) -> dict:
         """Platform-specific records of the last :meth:`visit` for the episode trace."""
         return {}

@@ -78,6 +78,11 @@ class Strategy(ABC):
     def observe(self, request: Request, points: np.ndarray, readings: np.ndarray) -> None:
         """Receive the readings taken for `request` at `points` (as reached), cm."""
 
+    def restrict(self, mask_of) -> None:
+        """Restrict the points the strategy may request to those where ``mask_of(points)``
+        is True (the platform's reachable set). Strategies with a candidate set override
+        this; by default it is ignored."""
+
     def reject(self, request: Request, point: np.ndarray, reason: str) -> None:
         """The platform cannot reach `point` of `request` (cm); `reason` says why.
 

@@ -165,6 +165,11 @@ class GradientStrategy(Strategy):
         else:
             self._pending = Request(self._gradient_samples(), "gradient", "manoeuvre")
 
+    def restrict(self, mask_of) -> None:
+        mask = mask_of(self.candidates.nodes)
+        if mask is not None and (self._reachable & mask).any():
+            self._reachable &= mask
+
     def reject(self, request: Request, point: np.ndarray, reason: str) -> None:
         """While exploring, exclude the unreachable point's neighbourhood and explore
         elsewhere; an unreachable gradient step or manoeuvre ends the search."""

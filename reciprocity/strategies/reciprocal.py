@@ -191,6 +191,11 @@ class ReciprocityStrategy(Strategy):
                 self._next = nxt
         self.status.extra["next"] = None if self.done else self._next.tolist()
 
+    def restrict(self, mask_of) -> None:
+        mask = mask_of(self.candidates.nodes)
+        if mask is not None and (self._reachable & mask).any():
+            self._reachable &= mask
+
     def reject(self, request: Request, point: np.ndarray, reason: str) -> None:
         """Exclude the neighbourhood of an unreachable target and choose again."""
         if self._count_rejection(reason):
