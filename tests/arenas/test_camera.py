@@ -4,21 +4,13 @@ import math
 
 import numpy as np
 import pytest
+from angles import angle_diff
 
 import arenas
 from arenas import ArenaError
 from arenas.camera import Observation, OverheadCamera
 
 N_POSES = 300
-
-
-def angle_diff(a, b):
-    return (a - b + math.pi) % (2 * math.pi) - math.pi
-
-
-@pytest.fixture(scope="module")
-def paper():
-    return arenas.load("paper")
 
 
 @pytest.fixture(scope="module")

@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+from angles import angle_diff
 from shapely.geometry import Polygon
 
 import arenas
@@ -11,15 +12,6 @@ from arenas import ArenaError
 from arenas.car import WALL_RADIUS, Car, CarSpec
 
 QUIET = CarSpec(steer_noise=0.0, speed_noise=0.0)
-
-
-def angle_diff(a, b):
-    return (a - b + math.pi) % (2 * math.pi) - math.pi
-
-
-@pytest.fixture(scope="module")
-def paper():
-    return arenas.load("paper")
 
 
 @pytest.fixture(scope="module")
