@@ -2,44 +2,124 @@
 and benchmarks share.
 
 :func:`check` validates a (scenario, strategy, platform, parameters) combination without
-any heavy work (no meshing, no factorization); :func:`run` runs one episode.
+any heavy work (no meshing, no factorization); :func:`run` runs one episode;
+:func:`execute` also returns the strategy and platforms (for figures and videos).
 """
 
 from __future__ import annotations
 
-from .episode import Episode
+import inspect
+
+from .episode import Episode, run_episode
 from .errors import SearchError
 from .scenarios import Scenario, load_scenario
+from .strategies import STRATEGIES, Strategy
 
-__all__ = ["run", "check"]
+__all__ = ["run", "check", "execute", "make_strategy", "strategy_parameters"]
+
+
+def strategy_parameters(name: str) -> list[str]:
+    """The parameter names strategy `name` accepts."""
+    sig = inspect.signature(STRATEGIES[name].__init__)
+    return [p.name for p in sig.parameters.values() if p.kind is p.KEYWORD_ONLY]
+
+
+def make_strategy(name: str, **params) -> Strategy:
+    """Build the strategy called `name` (see :data:`reciprocity.strategies.STRATEGIES`);
+    an unknown or invalid parameter raises SearchError naming the valid ones."""
+    if name not in STRATEGIES:
+        raise SearchError(f"unknown strategy {name!r}; choose one of {', '.join(STRATEGIES)}")
+    valid = strategy_parameters(name)
+    unknown = sorted(set(params) - set(valid))
+    if unknown:
+        raise SearchError(f"unknown parameter(s) {', '.join(unknown)} for strategy {name!r}; "
+                          f"valid: {', '.join(valid)}")
+    try:
+        return STRATEGIES[name](**params)
+    except (TypeError, ValueError) as exc:
+        raise SearchError(f"bad parameter for strategy {name!r}: {exc}") from None
 
 
 def check(scenario: str | Scenario, strategy: str, *, params: dict | None = None,
-          platform: str | None = None, agents: int | None = None,
-          world: dict | None = None) -> Scenario:
-    """Validate a combination before any heavy work; return the loaded scenario.
+          platform: str | None = None, agents: int | None = None, world: dict | None = None,
+          platform_options: dict | None = None) -> Scenario:
+    """Validate a combination before any heavy work; return the scenario (with the
+    world overrides applied).
 
     Raises
     ------
     SearchError
         Unknown scenario or strategy, a strategy that does not apply to the scenario's
-        world, an unknown or invalid parameter, platform or agent count.
+        world, an unknown or invalid parameter, platform, platform option or agent count.
     """
-    from .runner import PLATFORMS
-    from .strategies import STRATEGIES
-    sc = load_scenario(scenario) if not isinstance(scenario, Scenario) else scenario
+    sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    sc = sc.with_world(world)
     if strategy not in STRATEGIES:
         raise SearchError(f"unknown strategy {strategy!r}; choose one of {', '.join(STRATEGIES)}")
-    if platform is not None and platform not in PLATFORMS:
-        raise SearchError(f"unknown platform {platform!r}; choose one of {', '.join(PLATFORMS)}")
-    if agents is not None and agents != 1:
-        raise SearchError(f"strategy {strategy!r} directs one observer; got agents={agents}")
+    cls = STRATEGIES[strategy]
+    if sc.world not in cls.worlds:
+        fits = [n for n, c in STRATEGIES.items() if sc.world in c.worlds]
+        raise SearchError(f"strategy {strategy!r} does not apply to scenario {sc.name!r} ({sc.world} world); "
+                          f"strategies for {sc.world} worlds: {', '.join(fits)}")
+    plat = platform or sc.platform
+    if plat not in sc.kind.platforms:
+        raise SearchError(f"platform {plat!r} does not apply to {sc.world} worlds; choose one of "
+                          f"{', '.join(sc.kind.platforms)}")
+    n = _agents(cls, sc, agents)
+    if n < 1:
+        raise SearchError(f"agents must be at least 1; got {agents}")
+    make_strategy(strategy, **(params or {}))
+    if plat == "car":
+        from .car_platform import check_car_options
+        check_car_options(dict(platform_options or {}))
     return sc
+
+
+def _agents(cls, sc: Scenario, agents: int | None) -> int:
+    if agents is None:
+        return cls.agents or sc.agents
+    if isinstance(agents, bool) or not isinstance(agents, int):
+        raise SearchError(f"agents must be a whole number; got {agents!r}")
+    if cls.agents is not None and agents != cls.agents:
+        raise SearchError(f"strategy {cls.name!r} directs {cls.agents} observer(s); got agents={agents}")
+    return agents
+
+
+def execute(scenario: str | Scenario, strategy: str, *, seed: int = 0, params: dict | None = None,
+            platform: str | None = None, agents: int | None = None, world: dict | None = None,
+            platform_options: dict | None = None, progress=None):
+    """Like :func:`run`, but return ``(episode, strategy, platforms)``."""
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise SearchError(f"seed must be a non-negative whole number; got {seed!r}")
+    sc = check(scenario, strategy, params=params, platform=platform, agents=agents, world=world,
+               platform_options=platform_options)
+    plat_name = platform or sc.platform
+    n = _agents(STRATEGIES[strategy], sc, agents)
+    w = sc.build_world(seed)
+    options = dict(platform_options or {})
+    if plat_name == "car" and progress is not None:
+        options["progress"] = True
+    factory = sc.kind.platforms[plat_name]
+    plats = [factory(w, sc, dict(options)) for _ in range(n)]
+    params = dict(params or {})
+    if plat_name == "car":
+        # the strategy proposes only points where the car can stand; the gradient stops
+        # when the sensor reaches the top of its calibrated range (the paper's I_max)
+        accepted = strategy_parameters(strategy)
+        if "clearance" in accepted:
+            params.setdefault("clearance", plats[0].options.clearance)
+        if "i_max" in accepted:
+            params.setdefault("i_max", plats[0].testbed.floor.mapping.u_max)
+    strat = make_strategy(strategy, **params)
+    starts = sc.start_poses(w, n, seed)
+    episode = run_episode(w, strat, plats, starts=starts, seed=seed, max_steps=sc.max_steps,
+                          scenario=sc.name, progress=progress)
+    return episode, strat, plats
 
 
 def run(scenario: str | Scenario, strategy: str, *, seed: int = 0, params: dict | None = None,
         platform: str | None = None, agents: int | None = None, world: dict | None = None,
-        progress=None) -> Episode:
+        platform_options: dict | None = None, progress=None) -> Episode:
     """Run one episode of `strategy` in `scenario`.
 
     Parameters
@@ -49,29 +129,32 @@ def run(scenario: str | Scenario, strategy: str, *, seed: int = 0, params: dict 
     strategy : str
         A strategy name (``reciprocity strategies``).
     seed : int
-        Episode seed (noise, motion, the world's randomness).
+        Episode seed (the world's random parts, noise, motion, the strategy's draws).
     params : dict, optional
         Strategy parameters.
     platform : str, optional
-        ``"point"``, ``"car"``, ... ; default: the scenario's.
+        ``"point"``, ``"car"``, ``"walker"``, ...; default: the scenario's.
     agents : int, optional
-        Number of observers; default: the strategy's.
+        Number of observers; default: the strategy's (or the scenario's).
     world : dict, optional
-        Overrides of the scenario's world parameters (``source``, ``strength``, ``start``,
-        mismatch options).
+        Overrides of the scenario's world parameters (e.g. ``source``, ``strength``,
+        ``noise``, ``mismatch``) and ``start``.
+    platform_options : dict, optional
+        Options of the platform (car: :data:`reciprocity.car_platform.CAR_KEYS`).
     progress : callable, optional
         Called with each step record.
 
     Returns
     -------
     Episode
-        ``episode.summary`` holds the contract keys.
+        ``episode.summary`` holds the contract keys (:data:`reciprocity.episode.SUMMARY_KEYS`).
+
+    Examples
+    --------
+    >>> from reciprocity.api import run
+    >>> s = run("empty", "reciprocity", seed=1, params={"h": 4.0}).summary
+    >>> s["world"], s["converged"] in (True, False)
+    ('poisson', True)
     """
-    from .runner import search
-    sc = check(scenario, strategy, params=params, platform=platform, agents=agents, world=world)
-    w = dict(world or {})
-    episode, _, _ = search(sc.arena, strategy, source=w.pop("source", None),
-                           strength=w.pop("strength", None), start=w.pop("start", None),
-                           platform=platform or sc.platform, seed=seed, params=params,
-                           progress=progress, **w)
-    return episode
+    return execute(scenario, strategy, seed=seed, params=params, platform=platform, agents=agents,
+                   world=world, platform_options=platform_options, progress=progress)[0]

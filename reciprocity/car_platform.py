@@ -19,19 +19,20 @@ controller knows only the camera's estimates and the calibrated readings.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
-from arenas import Arena, Testbed
+from arenas import Arena, ArenaError, CarSpec, Testbed
 from arenas.testbed import dead_reckon
 from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank, optimal_path
 
 from .errors import SearchError, UnreachableTarget
-from .platforms import Platform, check_request
-from .strategies.base import Request
+from .intents import Intent, Measure, SampleGradient, StepToward
+from .observations import Observation
+from .platforms import Platform
 
-__all__ = ["CarPlatform", "DrivingOptions", "PLANNERS"]
+__all__ = ["CAR_KEYS", "CarPlatform", "DrivingOptions", "PLANNERS", "check_car_options", "make_car_platform"]
 
 #: How the car gets the value function of a target.
 PLANNERS = ("on-demand", "bank")
@@ -110,8 +111,6 @@ class CarPlatform(Platform):
     ----------
     testbed : arenas.Testbed
         Floor, sensor, car and camera.
-    source : array_like, shape (2,)
-        The true source (for the episode's error only; the car never uses it).
     options : DrivingOptions
         Planner and controller settings.
     progress : bool
@@ -119,12 +118,13 @@ class CarPlatform(Platform):
     """
 
     name = "car"
+    intents = (Measure, SampleGradient, StepToward)
 
-    def __init__(self, testbed: Testbed, source, options: DrivingOptions | None = None, *,
+    def __init__(self, testbed: Testbed, options: DrivingOptions | None = None, *,
                  progress: bool = False):
+        super().__init__()
         self.testbed = testbed
         self.arena: Arena = testbed.arena
-        self.source = np.asarray(source, dtype=float)
         self.options = options or DrivingOptions()
         o, rho = self.options, testbed.spec.rho
         common = dict(rho=rho, h=o.h, ntheta=int(o.ntheta), clearance=o.clearance, reverse=True)
@@ -140,8 +140,9 @@ class CarPlatform(Platform):
         self.dead_band = 0.05 * rho if o.dead_band is None else float(o.dead_band)
 
     # -- Platform interface -------------------------------------------------------------
-    def reset(self, start, rng: np.random.Generator) -> None:
+    def reset(self, start, world, rng: np.random.Generator) -> None:
         s = np.asarray(start, dtype=float).ravel()
+        self.world = world
         self.pose = self.testbed.reset([s[0], s[1], s[2] if len(s) > 2 else 0.0], rng)
         self.path_length = 0.0
         self.last_route = [self.testbed.car.pose[:2].copy()]
@@ -149,23 +150,35 @@ class CarPlatform(Platform):
         self._log = self._new_log()
         self.testbed.take_log()
 
-    def visit(self, request: Request) -> tuple[np.ndarray, np.ndarray]:
-        pts = check_request(self.arena, request)
+    @property
+    def time(self) -> float:
+        """Simulated time, s."""
+        return self.testbed.time
+
+    @property
+    def true_position(self) -> np.ndarray:
+        return self.testbed.car.pose[:2]
+
+    def _execute(self, intent: Intent) -> list[Observation]:
+        if not self.arena.contains(intent.point[None])[0]:
+            raise UnreachableTarget(intent.point, f"({intent.point[0]:.4g}, {intent.point[1]:.4g}) "
+                                    "is not in the free region")
         self._log = self._new_log()
+        kind = "gradient" if isinstance(intent, SampleGradient) else "signal"
         try:
-            if request.motion == "manoeuvre":
-                measured = self._manoeuvre(len(pts))
+            if isinstance(intent, SampleGradient):
+                measured = self._manoeuvre(2)
+            elif isinstance(intent, StepToward):
+                self._bang_bang(intent.point)
+                measured = [self._measure()]
             else:
-                measured = []
-                for p in pts:
-                    if request.motion == "bangbang":
-                        self._bang_bang(p)
-                    else:
-                        self._drive_to(p)
-                    measured.append(self._measure())
+                self._drive_to(intent.point)
+                measured = [self._measure()]
         finally:
             self._close_visit()
-        return (np.array([m.point for m in measured]), np.array([m.intensity for m in measured]))
+        dwell = self.options.dwell
+        return [Observation(m.point, m.intensity, m.time - dwell, dwell, kind, m.saturated, self.agent)
+                for m in measured]
 
     def step_log(self) -> dict:
         return self._log
@@ -186,7 +199,7 @@ class CarPlatform(Platform):
 
     def summary(self) -> dict:
         tb = self.testbed
-        return dict(sim_time_s=tb.time, collisions=len(tb.car.collisions),
+        return dict(collisions=len(tb.car.collisions),
                     driving=asdict(self.options), rho=tb.spec.rho, speed=tb.spec.speed,
                     calibration_noise=float(tb.calibration.noise))
 
@@ -423,3 +436,47 @@ class CarPlatform(Platform):
             self._drive(*best, o.bang_step)
             driven += o.bang_step
             est = tb.estimate.copy()
+
+
+#: Keys accepted by :func:`make_car_platform`: the driving options, the car's
+#: specification and the floor resolution.
+CAR_KEYS = tuple(f.name for f in fields(DrivingOptions)) + tuple(f.name for f in fields(CarSpec)) + (
+    "px_per_mm",)
+
+
+def check_car_options(car: dict) -> tuple[DrivingOptions, CarSpec, float]:
+    """Validate car options (cheap): the driving options, the car and the floor resolution."""
+    unknown = sorted(set(car) - set(CAR_KEYS))
+    if unknown:
+        raise SearchError(f"unknown car option(s) {', '.join(unknown)}; choose from {', '.join(CAR_KEYS)}")
+    drive_keys = {f.name for f in fields(DrivingOptions)}
+    spec_keys = {f.name for f in fields(CarSpec)}
+    try:
+        options = DrivingOptions(**{k: v for k, v in car.items() if k in drive_keys})
+        spec = CarSpec(**{k: v for k, v in car.items() if k in spec_keys})
+    except (TypeError, ArenaError) as exc:
+        raise SearchError(f"bad car option: {exc}") from None
+    px = car.get("px_per_mm", 1.0)
+    if isinstance(px, bool) or not isinstance(px, (int, float)) or not 0.1 <= px <= 4:
+        raise SearchError(f"px_per_mm must be a number between 0.1 and 4; got {px!r}")
+    return options, spec, float(px)
+
+
+def make_car_platform(world, *, progress: bool = False, **car) -> CarPlatform:
+    """The car observer in a :class:`~reciprocity.worlds.PoissonWorld`: the floor painted
+    from the world's true field, read through the calibrated sensor.
+
+    Parameters
+    ----------
+    world : PoissonWorld
+        The truth (its true walls, strength and paint curve).
+    progress : bool
+        Progress bar while a value-function bank is built.
+    **car
+        Any of :data:`CAR_KEYS`: :class:`DrivingOptions` fields (``planner``,
+        ``replan_every``, ...), :class:`arenas.CarSpec` fields (``rho``, ``speed``, ...),
+        and ``px_per_mm``, the floor resolution.
+    """
+    options, spec, px = check_car_options(car)
+    floor = world.floor(px_per_mm=px)
+    return CarPlatform(Testbed(world.true_arena, floor, car=spec), options, progress=progress)

@@ -107,6 +107,9 @@ class GreenSolver:
     grading : float, optional
         Mesh grading exponent toward re-entrant corners (see
         :func:`reciprocity.mesh.mesh_free_region`); default 0.5 for P1, 0.75 for P2.
+    mesh : reciprocity.spaces.MeshSpace, optional
+        A mesh of the same arena and `h` to solve on (P1), so a search space and its
+        solver share one mesh and one triangulation.
 
     Examples
     --------
@@ -118,7 +121,7 @@ class GreenSolver:
     """
 
     def __init__(self, arena: Arena, h: float = 1.0, order: int = 1,
-                 walls: str = "dirichlet", grading: float | None = None):
+                 walls: str = "dirichlet", grading: float | None = None, mesh=None):
         if not isinstance(arena, Arena):
             raise ReciprocityError(f"arena must be an arenas.Arena (see arenas.load); got "
                                    f"{type(arena).__name__}")
@@ -130,7 +133,9 @@ class GreenSolver:
         if grading is None:
             grading = 0.5 if order == 1 else 0.75
         clock = time.perf_counter()
-        mesh1 = mesh_free_region(arena, h, grading=grading)
+        if mesh is not None and (mesh.arena is not arena or mesh.h != self.h):
+            raise ReciprocityError("mesh must be a MeshSpace of the same arena and h")
+        mesh1 = mesh.mesh if mesh is not None else mesh_free_region(arena, h, grading=grading)
         #: Wall times (s) of the set-up stages: mesh, assemble, factorize.
         self.timings = {"mesh": time.perf_counter() - clock}
         self._mesh1 = mesh1
@@ -151,10 +156,16 @@ class GreenSolver:
         self._lu = splu(a_free[:, self._free].tocsc())
         self.timings["factorize"] = time.perf_counter() - clock
         # point location: a trapezoid map on the straight-sided vertex mesh (O(log n))
-        self._tri = Triangulation(mesh1.p[0], mesh1.p[1], mesh1.t.T)
+        self._tri = mesh.triangulation if mesh is not None else Triangulation(
+            mesh1.p[0], mesh1.p[1], mesh1.t.T)
         self._finder = self._tri.get_trifinder()
         self._centroids = cKDTree(mesh1.p[:, mesh1.t].mean(axis=1).T)
         self._grid_cache: dict = {}
+
+    @property
+    def triangulation(self) -> Triangulation:
+        """The straight-sided vertex mesh as a matplotlib Triangulation (built once)."""
+        return self._tri
 
     # ------------------------------------------------------------------ set-up
     def _curved(self, mesh1: skfem.MeshTri) -> skfem.MeshTri2:

@@ -18,7 +18,7 @@ from arenas import as_points
 
 from .errors import ReciprocityError
 from .green import Field, GreenSolver
-from .mesh import triangle_areas
+from .mesh import node_areas, triangle_areas
 
 __all__ = ["ImagingMap", "superlevel_area", "COMBINATIONS"]
 
@@ -114,11 +114,14 @@ class ImagingMap:
         self._tri_areas = triangle_areas(self.nodes, self.triangles)
         self.points = np.empty((0, 2))
         self.readings = np.empty(0)
+        self.saturated = np.empty(0, dtype=bool)
         self._g = np.empty((len(self.nodes), 0))
+        self._node_areas = None
         self._cache: dict = {}
 
     # ------------------------------------------------------------------ data
-    def add(self, z, reading: float, green: np.ndarray | None = None) -> None:
+    def add(self, z, reading: float, green: np.ndarray | None = None, *,
+            saturated: bool = False) -> None:
         """Add the measurement `reading` taken at `z` (cm).
 
         Parameters
@@ -129,6 +132,9 @@ class ImagingMap:
             Measured signal ``I_k`` (signal units).
         green : ndarray, shape (n_dofs,), optional
             Precomputed dof values of ``G(·, z)``; solved for when omitted.
+        saturated : bool
+            The sensor was at its ceiling: the true signal is *at least* `reading`. The
+            map is then censored: ``p_k = 1`` where ``v_k >= I_k``, eq. (7) below.
         """
         z = as_points(z, "observation point")[0]
         if not np.isfinite(reading):
@@ -136,6 +142,7 @@ class ImagingMap:
         g = self.solver.green(z).dofs if green is None else np.asarray(green, dtype=float)
         self.points = np.vstack([self.points, z])
         self.readings = np.append(self.readings, float(reading))
+        self.saturated = np.append(self.saturated, bool(saturated))
         self._g = np.column_stack([self._g, g])
         self._cache.clear()
 
@@ -146,6 +153,7 @@ class ImagingMap:
         other = copy.copy(self)
         other._cache = {}
         other.points, other.readings = self.points[:k].copy(), self.readings[:k].copy()
+        other.saturated = self.saturated[:k].copy()
         other._g = self._g[:, :k]
         return other
 
@@ -174,9 +182,17 @@ class ImagingMap:
         """The maps ``p_k`` of eq. (7) at every node, shape (n_nodes, M)."""
         self._require_data()
         if "p" not in self._cache:
-            r = (self.model() - self.readings) / self.sigma
+            r = self._residuals()
             self._cache["p"] = np.exp(-r * r)
         return self._cache["p"]
+
+    def _residuals(self) -> np.ndarray:
+        """``(v_k - I_k) / sigma`` at every node; 0 where a saturated reading is
+        exceeded (a censored reading only says the signal is at least ``I_k``)."""
+        r = (self.model() - self.readings) / self.sigma
+        if self.saturated.any():
+            r[:, self.saturated] = np.minimum(r[:, self.saturated], 0.0)
+        return r
 
     def values(self) -> np.ndarray:
         """The combined imaging function ``P_M`` at every node, in [0, 1]."""
@@ -185,11 +201,48 @@ class ImagingMap:
             if self.combine == "mean":
                 P = self.p_maps().mean(axis=1)
             else:
-                r = (self.model() - self.readings) / self.sigma
+                r = self._residuals()
                 s = np.sum(r * r, axis=1)
                 P = np.exp(-(s - s.min()))
             self._cache["P"] = P
         return self._cache["P"]
+
+    # ------------------------------------------------------------------ belief protocol
+    def update(self, obs) -> None:
+        """Add an :class:`~reciprocity.observations.Observation` (signal or gradient
+        reading; a saturated one is censored)."""
+        self.add(obs.position, float(obs.value), saturated=bool(obs.saturated))
+
+    def support(self) -> np.ndarray:
+        """Candidate sources: the mesh nodes, cm."""
+        return self.nodes
+
+    def weights(self) -> np.ndarray:
+        """Posterior weights: ``P_M`` times the nodal area, normalised (uniform before
+        any reading)."""
+        if self._node_areas is None:
+            self._node_areas = node_areas(self.nodes, self.triangles)
+        w = self._node_areas * (self.values() if self.n else 1.0)
+        return w / w.sum()
+
+    def entropy(self) -> float:
+        """Shannon entropy (nats) of :meth:`weights`."""
+        from .beliefs.base import shannon_entropy
+        return shannon_entropy(self.weights())
+
+    def predictive(self, candidates):
+        """Predictive distribution of a reading at `candidates` (m, 2), cm.
+
+        By reciprocity the reading at ``y`` for a source at node ``x`` has mean
+        ``c(x) G(y, x) = c(x) G(x, y)``: one back-substitution per candidate. The noise
+        is the Gaussian whose likelihood is eq. (7): standard deviation ``sigma / sqrt 2``.
+        """
+        from .beliefs.base import Predictive
+        from .models.base import GaussianNoise
+        pts = as_points(candidates, "candidates")
+        g = self.solver.greens(pts)                       # (n_dofs, m)
+        means = (g * self.strength_map()[:, None]).T      # (m, n)
+        return Predictive(self.weights(), means, GaussianNoise(self.sigma / np.sqrt(2.0)))
 
     def __call__(self, points) -> np.ndarray:
         """``P_M`` interpolated at `points` (n, 2), cm; NaN outside the free region."""
@@ -248,6 +301,7 @@ class ImagingMap:
         from matplotlib.tri import Triangulation
         if not (values.min() < level < values.max()):
             return []
-        tri = Triangulation(self.nodes[:, 0], self.nodes[:, 1], self.triangles)
+        tri = self.solver.triangulation if self.solver.order == 1 else Triangulation(
+            self.nodes[:, 0], self.nodes[:, 1], self.triangles)
         cs = Figure().add_subplot().tricontour(tri, values, levels=[level])
         return [np.asarray(s) for s in cs.allsegs[0] if len(s) > 1]

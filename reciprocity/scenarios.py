@@ -1,37 +1,247 @@
-"""Scenarios: a world and its parameters, by name or from a YAML file."""
+"""Scenarios: a world kind and its parameters, by name or from a YAML file.
+
+A scenario file is YAML (safe-loaded)::
+
+    description: the paper arena with walls 2 mm off and a 20 % stronger source
+    world: poisson            # the world kind: poisson, lattice, plume, filament, ...
+    arena: paper              # ... then that world's own parameters
+    source: [70.21, 70.21]
+    noise: 12
+    mismatch: {strength_factor: 1.2, wall_shift: 0.2}
+    platform: point           # the default platform (point | car | walker)
+    start: [128, 12, 135]     # x, y[, heading in degrees]; one per agent for several
+    success_radius: 5         # a converged estimate this close succeeds
+    max_steps: 300            # step cap of the episode (optional)
+
+Every built-in arena is a ``poisson`` scenario of its own name; the other built-ins are
+the files of ``reciprocity/data/scenarios``. World kinds are registered with
+:func:`register_world`, which says how to validate parameters (cheaply), build a world
+(from a seed, for worlds with random parts), and build each platform they support.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+import yaml
 
 import arenas
 
 from .errors import SearchError
 
-__all__ = ["Scenario", "load_scenario", "scenario_names"]
+__all__ = ["Scenario", "WorldKind", "WORLD_KINDS", "register_world", "load_scenario",
+           "scenario_names", "scenario_description"]
+
+#: Keys every scenario file may have; the rest are the world's own parameters.
+COMMON_KEYS = ("name", "description", "world", "platform", "start", "success_radius",
+               "max_steps", "agents")
+
+
+@dataclass(frozen=True)
+class WorldKind:
+    """How to make worlds of one kind.
+
+    Attributes
+    ----------
+    name : str
+        The ``world:`` value of scenario files.
+    check : callable
+        ``check(params) -> params``: validate and normalise the world's parameters
+        cheaply (no meshing or solving); raise SearchError with a one-line message.
+    build : callable
+        ``build(params, rng) -> World``; `rng` draws the world's random parts.
+    platforms : dict
+        Platform name -> ``factory(world, scenario, options) -> Platform``.
+    default_start : callable, optional
+        ``default_start(world, rng) -> (3,)`` pose when the scenario gives none.
+    """
+
+    name: str
+    check: Callable
+    build: Callable
+    platforms: dict
+    default_start: Callable | None = None
+
+
+#: Registered world kinds by name.
+WORLD_KINDS: dict[str, WorldKind] = {}
+
+#: Built-in scenario files by name (filled by :func:`_scenario_files`).
+_FILES: dict[str, object] = {}
+
+
+def register_world(kind: WorldKind) -> WorldKind:
+    """Register a world kind (see :class:`WorldKind`)."""
+    WORLD_KINDS[kind.name] = kind
+    return kind
 
 
 @dataclass
 class Scenario:
-    """A named world with its parameters (see ``reciprocity scenarios``)."""
+    """A named world with its parameters (see the module doc for the file format).
+
+    Attributes
+    ----------
+    name, description : str
+    world : str
+        World kind.
+    params : dict
+        The world's parameters (validated).
+    platform : str
+        Default platform.
+    starts : ndarray, shape (n, 3) or None
+        Start poses (x, y, heading rad); None: the world's default.
+    success_radius : float
+    max_steps : int or None
+    agents : int
+        Default number of observers.
+    """
 
     name: str
     world: str
     params: dict = field(default_factory=dict)
     platform: str = "point"
+    starts: np.ndarray | None = None
     success_radius: float = 5.0
-    arena: arenas.Arena | None = None
+    max_steps: int | None = None
+    agents: int = 1
+    description: str = ""
+
+    @property
+    def kind(self) -> WorldKind:
+        return WORLD_KINDS[self.world]
+
+    @property
+    def arena(self):
+        """The scenario's arena (poisson worlds), else None."""
+        return self.params.get("arena")
+
+    def with_world(self, overrides: dict | None) -> "Scenario":
+        """A copy with world parameters (and ``start``) overridden, validated."""
+        if not overrides:
+            return self
+        over = dict(overrides)
+        starts = self.starts
+        if "start" in over:
+            starts = _starts(over.pop("start"), f"scenario {self.name!r}", degrees=False)
+        params = dict(self.params)
+        params.update(over)
+        return Scenario(self.name, self.world, self.kind.check(params), self.platform, starts,
+                        self.success_radius, self.max_steps, self.agents, self.description)
+
+    def build_world(self, seed: int):
+        """The world of an episode with seed `seed` (its random parts drawn from it)."""
+        ss = np.random.SeedSequence([int(seed), 0x57A7])
+        world = self.kind.build(self.params, np.random.default_rng(ss))
+        world.success_radius = self.success_radius
+        return world
+
+    def start_poses(self, world, n_agents: int, seed: int) -> np.ndarray:
+        """Start poses (n_agents, 3): the scenario's (the first repeated if fewer are
+        given), else the world's default."""
+        if self.starts is not None:
+            s = self.starts
+            return np.array([s[min(k, len(s) - 1)] for k in range(n_agents)], dtype=float)
+        if self.kind.default_start is None:
+            raise SearchError(f"scenario {self.name!r} has no start: give start: [x, y]")
+        rng = np.random.default_rng(np.random.SeedSequence([int(seed), 0x5747]))
+        return np.array([self.kind.default_start(world, rng) for _ in range(n_agents)], dtype=float)
+
+
+def _starts(value, where: str, *, degrees: bool) -> np.ndarray:
+    arr = np.asarray(value, dtype=float) if value is not None else None
+    if arr is None or arr.ndim not in (1, 2) or arr.shape[-1] not in (2, 3) or not np.all(np.isfinite(arr)):
+        raise SearchError(f"{where}: start must be [x, y] or [x, y, heading] (or a list of them); got {value!r}")
+    arr = np.atleast_2d(arr)
+    if arr.shape[1] == 2:
+        arr = np.column_stack([arr, np.zeros(len(arr))])
+    elif degrees:
+        arr = arr.copy()
+        arr[:, 2] = np.radians(arr[:, 2])
+    return arr
+
+
+def _scenario_files() -> dict:
+    if not _FILES:
+        folder = resources.files("reciprocity") / "data" / "scenarios"
+        for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+            if entry.name.endswith(".yaml"):
+                _FILES[entry.name[:-5]] = entry
+    return _FILES
 
 
 def scenario_names() -> list[str]:
-    """Names of the built-in scenarios."""
-    return list(arenas.builtin_names())
+    """Names of the built-in scenarios: every built-in arena, then the scenario files."""
+    return list(arenas.builtin_names()) + [n for n in _scenario_files() if n not in arenas.builtin_names()]
+
+
+def scenario_description(name: str) -> str:
+    """One line describing a built-in scenario."""
+    if name in _scenario_files():
+        return str(_read(_FILES[name], name).get("description", ""))
+    return arenas.builtin_description(name)
+
+
+def _read(src, label: str) -> dict:
+    try:
+        data = yaml.safe_load(src.read_text())
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SearchError(f"cannot read scenario file {label!r}: {exc}") from None
+    except yaml.YAMLError as exc:
+        raise SearchError(f"scenario file {label!r} is not valid YAML: {str(exc).splitlines()[0]}") from None
+    if not isinstance(data, dict) or "world" not in data:
+        raise SearchError(f"scenario file {label!r} must be a mapping with a 'world:' kind "
+                          f"({', '.join(WORLD_KINDS)})")
+    return data
+
+
+def from_dict(data: dict, name: str = "scenario") -> Scenario:
+    """A :class:`Scenario` from the mapping of a scenario file."""
+    data = dict(data)
+    where = f"scenario {name!r}"
+    kind = data.pop("world")
+    if kind not in WORLD_KINDS:
+        raise SearchError(f"{where}: unknown world kind {kind!r}; choose one of {', '.join(WORLD_KINDS)}")
+    common = {k: data.pop(k) for k in COMMON_KEYS if k in data}
+    wk = WORLD_KINDS[kind]
+    platform = str(common.get("platform", next(iter(wk.platforms))))
+    if platform not in wk.platforms:
+        raise SearchError(f"{where}: platform {platform!r} does not apply to {kind} worlds; "
+                          f"choose one of {', '.join(wk.platforms)}")
+    radius = common.get("success_radius", 5.0)
+    if isinstance(radius, bool) or not isinstance(radius, (int, float)) or not radius > 0:
+        raise SearchError(f"{where}: success_radius must be a positive number; got {radius!r}")
+    cap = common.get("max_steps")
+    if cap is not None and (isinstance(cap, bool) or not isinstance(cap, int) or cap < 1):
+        raise SearchError(f"{where}: max_steps must be a positive whole number; got {cap!r}")
+    agents = common.get("agents", 1)
+    if isinstance(agents, bool) or not isinstance(agents, int) or agents < 1:
+        raise SearchError(f"{where}: agents must be a positive whole number; got {agents!r}")
+    starts = _starts(common["start"], where, degrees=True) if common.get("start") is not None else None
+    return Scenario(str(common.get("name", name)), kind, wk.check(data), platform, starts,
+                    float(radius), cap, agents, str(common.get("description", "")))
 
 
 def load_scenario(name_or_path) -> Scenario:
-    """The built-in scenario `name_or_path`, or one read from a YAML file."""
-    try:
-        arena = arenas.load(name_or_path)
-    except arenas.ArenaError as exc:
-        raise SearchError(str(exc)) from None
-    return Scenario(arena.name, "poisson", {}, "point", 5.0, arena)
+    """The built-in scenario `name_or_path`, or one read from a YAML file.
+
+    Raises
+    ------
+    SearchError
+        Unknown name, unreadable or malformed file, invalid parameters.
+    """
+    from . import worlds  # noqa: F401  (registers the world kinds)
+    text = str(name_or_path)
+    if text in arenas.builtin_names():
+        return from_dict({"world": "poisson", "arena": text, "name": text})
+    if text in _scenario_files():
+        return from_dict(_read(_FILES[text], text), text)
+    path = Path(text)
+    if not path.exists():
+        raise SearchError(f"no built-in scenario or file named {text!r}; built-ins are "
+                          f"{', '.join(scenario_names())} (or give the path of a YAML scenario file)")
+    return from_dict(_read(path, text), path.stem)

@@ -1,11 +1,24 @@
 """Search strategies, selectable by name (:data:`STRATEGIES`)."""
 
-from .base import Request, Status, Strategy
+from .base import MAX_REJECTIONS, SearchContext, Status, Strategy
 from .gradient import GradientStrategy, three_point_gradient
+from .random_walk import RandomWalkStrategy
 from .reciprocal import ReciprocityStrategy
 
-#: Strategy classes by the name used on the command line.
-STRATEGIES = {"reciprocity": ReciprocityStrategy, "gradient": GradientStrategy}
+#: Strategy classes by the name used on the command line; each says the world kinds it
+#: applies to (``cls.worlds``) and how many observers it directs (``cls.agents``).
+STRATEGIES: dict[str, type[Strategy]] = {
+    "reciprocity": ReciprocityStrategy,
+    "gradient": GradientStrategy,
+    "random-walk": RandomWalkStrategy,
+}
 
-__all__ = ["GradientStrategy", "ReciprocityStrategy", "Request", "STRATEGIES", "Status",
-           "Strategy", "three_point_gradient"]
+
+def register(cls: type[Strategy]) -> type[Strategy]:
+    """Add a strategy class to :data:`STRATEGIES` under ``cls.name`` (a class decorator)."""
+    STRATEGIES[cls.name] = cls
+    return cls
+
+
+__all__ = ["GradientStrategy", "MAX_REJECTIONS", "RandomWalkStrategy", "ReciprocityStrategy",
+           "STRATEGIES", "SearchContext", "Status", "Strategy", "register", "three_point_gradient"]

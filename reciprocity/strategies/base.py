@@ -1,4 +1,10 @@
-"""The strategy interface every search strategy implements."""
+"""The strategy interface every search strategy implements.
+
+A strategy is started with a :class:`SearchContext` (what it is told: the world's
+nominal description, the start poses, a random generator, the message log), proposes
+:mod:`intents <reciprocity.intents>` and receives :class:`~reciprocity.observations.Observation`
+records. It never sees the world or the true poses.
+"""
 
 from __future__ import annotations
 
@@ -7,36 +13,54 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from arenas import Arena
+from ..intents import Intent
+from ..observations import MessageLog, Observation
+from ..outcome import Stop, StopReason
 
-__all__ = ["Request", "Strategy", "MAX_REJECTIONS"]
+__all__ = ["SearchContext", "Status", "Strategy", "MAX_REJECTIONS"]
 
 #: A strategy gives up after this many unreachable targets in one search.
 MAX_REJECTIONS = 20
 
 
 @dataclass
-class Request:
-    """Where a strategy wants the platform to measure next.
+class SearchContext:
+    """What a strategy is told when a search starts.
 
     Attributes
     ----------
-    points : ndarray, shape (n, 2)
-        Observation points, visited in order, cm.
-    kind : str
-        ``"signal"`` (a measurement the strategy counts as one of its observations) or
-        ``"gradient"`` (extra samples around the current point for a gradient estimate).
-    motion : str
-        How a car should get there: ``"plan"`` (the optimal path of the HJ planner),
-        ``"manoeuvre"`` (the paper's short reverse, then forward and to the side, for the
-        three gradient samples; the points are nominal) or ``"bangbang"`` (a step toward
-        the point with the bang-bang action nearest to its direction). A point observer
-        ignores it.
+    world : str
+        The world kind (``"poisson"``, ``"lattice"``, ...).
+    nominal : dict
+        The world's nominal description (``World.nominal()``): geometry and nominal
+        parameters, never the source, never the mismatch.
+    starts : ndarray, shape (n_agents, 3)
+        Start poses as the platforms report them (x, y, heading rad).
+    rng : numpy.random.Generator
+        The strategy's own random generator.
+    messages : MessageLog
+        Where multi-observer strategies record what they share.
     """
 
-    points: np.ndarray
-    kind: str = "signal"
-    motion: str = "plan"
+    world: str
+    nominal: dict
+    starts: np.ndarray
+    rng: np.random.Generator
+    messages: MessageLog = field(default_factory=MessageLog)
+
+    @property
+    def n_agents(self) -> int:
+        return len(self.starts)
+
+    @property
+    def arena(self):
+        """The nominal arena (geometry, nominal strength; no source), where there is one."""
+        return self.nominal.get("arena")
+
+    @property
+    def start(self) -> np.ndarray:
+        """The first observer's start pose."""
+        return self.starts[0]
 
 
 @dataclass
@@ -50,58 +74,81 @@ class Status:
 
 
 class Strategy(ABC):
-    """A source-search strategy: proposes observation points, receives readings.
+    """A source-search strategy: proposes intents, receives observations.
 
-    A strategy never sees the true source or the true pose: only the points where its
-    readings were taken (as reported by the platform) and the readings.
+    Class attributes
+    ----------------
+    name : str
+        Name on the command line.
+    worlds : tuple of str
+        World kinds the strategy applies to.
+    agents : int or None
+        Number of observers it directs (None: any number).
     """
 
     name: str = "strategy"
+    worlds: tuple = ("poisson",)
+    agents: int | None = 1
 
     def __init__(self) -> None:
-        self.done = False
-        self.stop_reason = ""
+        self._reset_state()
+
+    def _reset_state(self) -> None:
+        self.outcome: Stop | None = None
         self.status = Status()
         self.n_measurements = 0
         self.n_samples = 0
         self.n_rejected = 0
 
+    # -- the protocol -------------------------------------------------------------------
     @abstractmethod
-    def start(self, arena: Arena, pose: np.ndarray, rng: np.random.Generator) -> None:
-        """Begin a search in `arena` from `pose` (x, y cm; heading rad)."""
+    def start(self, ctx: SearchContext) -> None:
+        """Begin a search (call ``self._reset_state()`` first)."""
 
     @abstractmethod
-    def propose(self) -> Request | None:
-        """The next request, or None once :attr:`done`."""
+    def propose(self) -> Intent | dict | None:
+        """The next intent (one observer), a mapping agent -> intent (several), or None
+        once :attr:`done`."""
 
     @abstractmethod
-    def observe(self, request: Request, points: np.ndarray, readings: np.ndarray) -> None:
-        """Receive the readings taken for `request` at `points` (as reached), cm."""
+    def observe(self, observations: list[Observation], intent: Intent, agent: int = 0) -> None:
+        """Receive the observations `agent`'s platform made for `intent`."""
 
     def restrict(self, mask_of) -> None:
-        """Restrict the points the strategy may request to those where ``mask_of(points)``
-        is True (the platform's reachable set). Strategies with a candidate set override
+        """Restrict the points the strategy may ask for to those where ``mask_of(points)``
+        is True (the platform's reachable set). Strategies with candidate sets override
         this; by default it is ignored."""
 
-    def reject(self, request: Request, point: np.ndarray, reason: str) -> None:
-        """The platform cannot reach `point` of `request` (cm); `reason` says why.
+    def reject(self, intent: Intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
+        """The platform cannot reach `point` of `intent`; `reason` says why.
 
         Strategies that can choose another point override this; by default the search
-        stops with the reason as its stop reason.
-        """
-        self.done, self.stop_reason = True, f"unreachable target: {reason}"
+        stops (no target)."""
+        self.stop(StopReason.NO_TARGET, f"unreachable target: {reason}")
+
+    # -- stopping -----------------------------------------------------------------------
+    def stop(self, reason: StopReason, detail: str = "") -> None:
+        """Stop the search for `reason`."""
+        self.outcome = Stop(StopReason(reason), detail)
+
+    @property
+    def done(self) -> bool:
+        return self.outcome is not None
+
+    @property
+    def stop_reason(self) -> str:
+        return "" if self.outcome is None else str(self.outcome)
 
     def _count_rejection(self, reason: str) -> bool:
         """Count a rejected target; True (and stop) once there were too many."""
         self.n_rejected += 1
         if self.n_rejected > MAX_REJECTIONS:
-            self.done = True
-            self.stop_reason = f"gave up after {MAX_REJECTIONS} unreachable targets (last: {reason})"
+            self.stop(StopReason.GAVE_UP, f"{MAX_REJECTIONS} unreachable targets (last: {reason})")
         return self.done
 
     @property
     def estimate(self) -> np.ndarray | None:
-        """Current source estimate (cm) or None."""
+        """Current source estimate or None."""
         return self.status.estimate
 
     def params(self) -> dict:

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from arenas import Arena
-
-from ..candidates import CandidateSet
 from ..errors import SearchError
-from ..green import GreenSolver
-from .base import Request, Status, Strategy
+from ..intents import Measure, SampleGradient, StepToward
+from ..outcome import StopReason
+from ..spaces import MeshSpace, mesh_space
+from .base import SearchContext, Status, Strategy
 
 __all__ = ["GradientStrategy", "three_point_gradient"]
 
@@ -79,9 +78,9 @@ class GradientStrategy(Strategy):
     strength : float or "arena"
         Source strength ``c`` used to size steps.
     h : float
-        Mesh size (cm) for the admissible-point set when no solver is given.
-    solver : GreenSolver, optional
-        Prebuilt solver (only its mesh is used).
+        Mesh size (cm) of the admissible-point set (a mesh only: nothing is solved).
+    space : MeshSpace, optional
+        A prebuilt mesh of the arena to choose points from.
     """
 
     name = "gradient"
@@ -90,7 +89,7 @@ class GradientStrategy(Strategy):
                  stop_radius: float = 3.0, d: float = 15.0,
                  delta: float = 5.0, step_max: float = 15.0, kappa: float = 0.5,
                  max_steps: int = 60, clearance: float = 3.0, strength="arena",
-                 h: float = 1.0, solver: GreenSolver | None = None):
+                 h: float = 1.0, space: MeshSpace | None = None):
         super().__init__()
         if not 0 <= i_min < (np.inf if i_max is None else i_max):
             raise SearchError(f"need 0 <= i_min < i_max; got i_min={i_min!r}, i_max={i_max!r}")
@@ -102,38 +101,39 @@ class GradientStrategy(Strategy):
         self.i_min, self.d, self.delta = float(i_min), float(d), float(delta)
         self.i_max, self.stop_radius = (None if i_max is None else float(i_max)), float(stop_radius)
         self.step_max, self.kappa, self.max_steps = float(step_max), float(kappa), int(max_steps)
-        self.clearance, self.strength, self.h, self.solver = float(clearance), strength, float(h), solver
+        self.clearance, self.strength, self.h, self.space = float(clearance), strength, float(h), space
 
     def params(self) -> dict:
         return dict(i_min=self.i_min, i_max=self.i_max, stop_radius=self.stop_radius, d=self.d, delta=self.delta,
                     step_max=self.step_max, kappa=self.kappa, max_steps=self.max_steps,
                     clearance=self.clearance, strength=self.strength)
 
-    def start(self, arena: Arena, pose: np.ndarray, rng: np.random.Generator) -> None:
-        super().__init__()
-        if self.solver is None or self.solver.arena.without_scenario() is not arena.without_scenario():
-            self.solver = GreenSolver(arena, h=max(self.h, 1.0))
+    def start(self, ctx: SearchContext) -> None:
+        self._reset_state()
+        arena, pose = ctx.arena, ctx.start
+        geometry = arena.without_scenario()
+        if self.space is None or self.space.arena is not geometry:
+            self.space = mesh_space(geometry, max(self.h, 1.0))
         self.arena = arena
-        self.c = arena.strength if self.strength == "arena" else float(self.strength)
-        self.candidates = CandidateSet(self.solver, self.clearance)
-        self._reachable = self.candidates.reachable_from(pose[:2])
+        self.c = ctx.nominal.get("strength", arena.strength) if self.strength == "arena" else float(self.strength)
+        self._reachable = self.space.reachable_from(pose[:2], self.clearance)
         self.heading = float(pose[2]) if len(pose) > 2 else 0.0
         self.visited = np.empty((0, 2))
         self.samples = np.empty((0, 2))
         self.position = np.asarray(pose[:2], dtype=float)
         self.reading = None
         self.gradients: list[tuple[list, list]] = []
-        self._pending = Request(self.position[None, :].copy(), "signal")
+        self._pending = Measure(self.position.copy())
 
-    def propose(self) -> Request | None:
+    def propose(self):
         return None if self.done else self._pending
 
-    def observe(self, request: Request, points: np.ndarray, readings: np.ndarray) -> None:
-        points = np.atleast_2d(np.asarray(points, dtype=float))
-        readings = np.asarray(readings, dtype=float)
+    def observe(self, observations, intent, agent: int = 0) -> None:
+        points = np.array([o.position for o in observations]).reshape(-1, 2)
+        readings = np.array([o.value for o in observations], dtype=float)
         self.n_samples += len(readings)
         self.samples = np.vstack([self.samples, points])
-        if request.kind == "gradient":
+        if isinstance(intent, SampleGradient):
             pts = np.vstack([self.position, points])
             vals = np.concatenate([[self.reading], readings])
             g = three_point_gradient(pts, vals)
@@ -141,9 +141,9 @@ class GradientStrategy(Strategy):
             norm = np.hypot(*g)
             r_est = self.c / (2 * np.pi * norm) if norm > 0 else np.inf
             if self.i_max is None and r_est <= self.stop_radius:
-                self.done, self.stop_reason = True, "gradient puts the source within stop_radius"
+                self.stop(StopReason.CONVERGED, "gradient puts the source within stop_radius")
                 return
-            self._pending = Request(self._gradient_step(g)[None, :], "signal", "bangbang")
+            self._pending = StepToward(self._gradient_step(g))
             return
         new = points[-1]
         if np.hypot(*(new - self.position)) > 1e-9:
@@ -152,60 +152,48 @@ class GradientStrategy(Strategy):
         self.visited = np.vstack([self.visited, new])
         self.n_measurements += 1
         self.status = Status(self.position.copy(), None)
-        if self.i_max is not None and self.reading >= self.i_max:
-            self.done, self.stop_reason = True, "signal above i_max"
+        if self.i_max is not None and (self.reading >= self.i_max or observations[-1].saturated):
+            self.stop(StopReason.CONVERGED, "signal above i_max")
         elif self.n_measurements >= self.max_steps:
-            self.done, self.stop_reason = True, "max_steps reached"
+            self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} measurements")
         elif self.reading < self.i_min:
-            nxt = self._explore()
-            if nxt is None:
-                self.done, self.stop_reason = True, "no admissible exploration point left"
-            else:
-                self._pending = Request(nxt[None, :], "signal")
+            self._explore_or_stop()
         else:
-            self._pending = Request(self._gradient_samples(), "gradient", "manoeuvre")
+            self._pending = SampleGradient(self.position.copy(), self.delta)
+
+    def _explore_or_stop(self) -> None:
+        nxt = self._explore()
+        if nxt is None:
+            self.stop(StopReason.NO_TARGET, "no admissible exploration point left")
+        else:
+            self._pending = Measure(nxt)
 
     def restrict(self, mask_of) -> None:
-        mask = mask_of(self.candidates.nodes)
+        mask = mask_of(self.space.points)
         if mask is not None and (self._reachable & mask).any():
             self._reachable &= mask
 
-    def reject(self, request: Request, point: np.ndarray, reason: str) -> None:
+    def reject(self, intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
         """While exploring, exclude the unreachable point's neighbourhood and explore
-        elsewhere; an unreachable gradient step or manoeuvre ends the search."""
-        exploring = request.motion == "plan" and self.reading is not None and self.reading < self.i_min
+        elsewhere; an unreachable gradient step or sample ends the search."""
+        exploring = isinstance(intent, Measure) and self.reading is not None and self.reading < self.i_min
         if self._count_rejection(reason):
             return
         if not exploring:
-            super().reject(request, point, reason)
+            super().reject(intent, point, reason, agent)
             return
-        self._reachable &= ~self.candidates.around(point, max(0.5 * self.d, self.solver.h))
-        nxt = self._explore()
-        if nxt is None:
-            self.done, self.stop_reason = True, "no admissible exploration point left"
-        else:
-            self._pending = Request(nxt[None, :], "signal")
+        self._reachable &= ~self.space.around(point, max(0.5 * self.d, self.space.h))
+        self._explore_or_stop()
 
     def _explore(self) -> np.ndarray | None:
         """Lines 9-12: nearest admissible point at least d from all samples."""
-        cand = self.candidates
+        cand = self.space
         allowed = self._reachable & cand.separated(self.visited, self.d)
         if not allowed.any():
             return None
-        centroid = cand.nodes[allowed].mean(axis=0)
-        toward = -np.hypot(*(cand.nodes - centroid).T)
-        return cand.nearest_ring(self.position, allowed, toward, self.solver.h)
-
-    def _gradient_samples(self) -> np.ndarray:
-        """Line 13: a short step back, then forward and to the side (the paper's manoeuvre)."""
-        e = np.array([np.cos(self.heading), np.sin(self.heading)])
-        n = np.array([-e[1], e[0]])
-        for turn in (0.0, np.pi / 2, np.pi, 3 * np.pi / 2):
-            rot = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
-            pts = self.position + self.delta * np.array([rot @ -e, rot @ (e + n) / np.sqrt(2)])
-            if self.arena.contains(pts).all():
-                return pts
-        return self.position + self.delta * np.array([-e, (e + n) / np.sqrt(2)]) * 0.3
+        centroid = cand.points[allowed].mean(axis=0)
+        toward = -np.hypot(*(cand.points - centroid).T)
+        return cand.nearest_ring(self.position, allowed, toward, self.space.h)
 
     def _gradient_step(self, g: np.ndarray) -> np.ndarray:
         """Lines 16-17: step along the gradient without overshooting the source."""
@@ -216,10 +204,10 @@ class GradientStrategy(Strategy):
         step = min(self.step_max, self.kappa * r_est)
         self.heading = float(np.arctan2(g[1], g[0]))
         u = g / norm
-        cand = self.candidates
+        cand = self.space
         for s in step * 0.5 ** np.arange(6):
             target = self.position + s * u
-            if cand.nearest(target, self._reachable) is not None and self.arena.contains(target, self.clearance)[0]:
+            if cand.nearest_in(target, self._reachable) is not None and self.arena.contains(target, self.clearance)[0]:
                 return target
-        near = cand.nearest(self.position + step * u, self._reachable)
+        near = cand.nearest_in(self.position + step * u, self._reachable)
         return self.position.copy() if near is None else near

@@ -5,14 +5,14 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import gaussian_filter, map_coordinates
 
-from arenas import Arena
-
-from ..candidates import CandidateSet
 from ..errors import SearchError
 from ..green import GreenSolver
 from ..imaging import ImagingMap
-from ..mesh import node_areas
-from .base import Request, Status, Strategy
+from ..intents import Measure
+from ..outcome import StopReason
+from ..spaces import MeshSpace, mesh_space
+from ..worlds.poisson import cached_solver
+from .base import SearchContext, Status, Strategy
 
 __all__ = ["ReciprocityStrategy", "RULES", "mass_within_reach"]
 
@@ -152,27 +152,37 @@ class ReciprocityStrategy(Strategy):
                     strength=self.strength if not isinstance(self.strength, float) else float(self.strength),
                     h=self.h if self.solver is None else self.solver.h)
 
-    def start(self, arena: Arena, pose: np.ndarray, rng: np.random.Generator) -> None:
-        super().__init__()
-        if self.solver is None or self.solver.arena.without_scenario() is not arena.without_scenario():
-            self.solver = GreenSolver(arena, h=self.h)
-        c = arena.strength if self.strength == "arena" else self.strength
+    def start(self, ctx: SearchContext) -> None:
+        self._reset_state()
+        arena, pose = ctx.arena, ctx.start
+        geometry = arena.without_scenario()
+        if self.solver is None or self.solver.arena.without_scenario() is not geometry:
+            self.solver = cached_solver(geometry, self.h)
+        c = ctx.nominal.get("strength", arena.strength) if self.strength == "arena" else self.strength
         self.imaging = ImagingMap(self.solver, self.sigma, strength=c, combine=self.combine)
-        self.candidates = CandidateSet(self.solver, self.clearance)
-        self._reachable = self.candidates.reachable_from(pose[:2])
+        self.space = self._space(geometry)
+        self._reachable = self.space.reachable_from(pose[:2], self.clearance)
         self._next = np.asarray(pose[:2], dtype=float)
-        self._node_area = node_areas(self.solver.nodes, self.solver.triangles)
+        self._node_area = self.space.cell_areas
 
-    def propose(self) -> Request | None:
+    def _space(self, geometry) -> MeshSpace:
+        """The candidate points: the nodes of the solver's own P1 mesh."""
+        space = mesh_space(geometry, self.solver.h)
+        if self.solver.order != 1 or space.points.shape != self.solver.nodes.shape or \
+                not np.allclose(space.points, self.solver.nodes, atol=1e-9):
+            raise SearchError("the reciprocity strategy needs a P1 solver (order=1) on the arena's mesh")
+        return space
+
+    def propose(self) -> Measure | None:
         if self.done:
             return None
-        return Request(self._next[None, :].copy(), "signal")
+        return Measure(self._next.copy())
 
-    def observe(self, request: Request, points: np.ndarray, readings: np.ndarray) -> None:
-        z, reading = np.asarray(points[0], dtype=float), float(readings[0])
+    def observe(self, observations, intent, agent: int = 0) -> None:
+        obs = observations[0]
         self.n_measurements += 1
         self.n_samples += 1
-        self.imaging.add(z, reading)                                   # steps 9-11
+        self.imaging.update(obs)                                       # steps 9-11
         area = self.imaging.area(self.eps)                             # step 12
         estimate = self.imaging.estimate()
         self.status = Status(estimate, area)
@@ -180,40 +190,39 @@ class ReciprocityStrategy(Strategy):
         extent = float(np.hypot(*(region - estimate).T).max()) if len(region) else 0.0
         self.status.extra["region_extent"] = extent
         if area < self.area_tol and (self.extent_tol is None or extent <= self.extent_tol):
-            self.done, self.stop_reason = True, "region smaller than area_tol"
+            self.stop(StopReason.CONVERGED, "region smaller than area_tol")
         elif self.n_measurements >= self.max_steps:
-            self.done, self.stop_reason = True, "max_steps reached"
+            self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} measurements")
         else:
-            nxt = self.next_point()                                    # step 13
-            if nxt is None:
-                self.done, self.stop_reason = True, "no admissible observation point left"
-            else:
-                self._next = nxt
+            self._choose_next()
         self.status.extra["next"] = None if self.done else self._next.tolist()
 
+    def _choose_next(self) -> None:
+        nxt = self.next_point()                                        # step 13
+        if nxt is None:
+            self.stop(StopReason.NO_TARGET, "no admissible observation point left")
+        else:
+            self._next = nxt
+
     def restrict(self, mask_of) -> None:
-        mask = mask_of(self.candidates.nodes)
+        mask = mask_of(self.space.points)
         if mask is not None and (self._reachable & mask).any():
             self._reachable &= mask
 
-    def reject(self, request: Request, point: np.ndarray, reason: str) -> None:
+    def reject(self, intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
         """Exclude the neighbourhood of an unreachable target and choose again."""
         if self._count_rejection(reason):
             return
         if not len(self.imaging.points):
-            super().reject(request, point, reason)
+            super().reject(intent, point, reason, agent)
             return
-        self._reachable &= ~self.candidates.around(point, max(0.5 * self.d, self.solver.h))
-        nxt = self.next_point()
-        if nxt is None:
-            self.done, self.stop_reason = True, "no admissible observation point left"
-        else:
-            self._next = nxt
+        self._reachable &= ~self.space.around(point, max(0.5 * self.d, self.solver.h))
+        self._choose_next()
         self.status.extra["next"] = None if self.done else self._next.tolist()
 
     def next_point(self) -> np.ndarray | None:
         """Step 13: the next observation point (cm), or None if none is admissible."""
-        im, cand = self.imaging, self.candidates
+        im, cand = self.imaging, self.space
         z = im.points[-1]
         allowed = self._reachable & cand.separated(im.points, self.d)
         if self.rule == "axis":
@@ -230,7 +239,7 @@ class ReciprocityStrategy(Strategy):
 
     def _axis_point(self, allowed: np.ndarray) -> np.ndarray | None:
         """The ``"axis"`` rule once the imaging mass is concentrated, else None."""
-        nodes = self.candidates.nodes
+        nodes = self.space.points
         w = self.imaging.values() * self._node_area
         w = w / w.sum()
         centre = w @ nodes
@@ -244,7 +253,7 @@ class ReciprocityStrategy(Strategy):
         best, best_gap = None, np.inf
         for sign in (1.0, -1.0):
             target = centre + sign * dist * axis
-            cand = self.candidates.nearest(target, allowed)
+            cand = self.space.nearest_in(target, allowed)
             if cand is not None and np.hypot(*(cand - target)) < best_gap:
                 best, best_gap = cand, np.hypot(*(cand - target))
         return best
@@ -252,7 +261,7 @@ class ReciprocityStrategy(Strategy):
     def _score(self, allowed: np.ndarray) -> np.ndarray:
         """Imaging mass within reach of the allowed nodes; -inf elsewhere. The imaging
         function weighted by nodal area is the density."""
-        nodes = self.candidates.nodes
+        nodes = self.space.points
         w = self.imaging.values() * self._node_area
         idx = np.flatnonzero(allowed)
         out = np.full(len(nodes), -np.inf)

@@ -1,0 +1,186 @@
+"""The Poisson arena world: the FEM signal of a point source behind walls, read with noise.
+
+The truth is ``-Δu = c δ(x - S)`` on the free region, solved on a mesh finer than any
+strategy's (no inverse crime), read at the observer's true position with Gaussian noise
+(point observer), or painted on the testbed floor and read through the calibrated
+reflectance sensor (car). Mismatch options make the truth differ from what a strategy
+is told, on purpose.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+from shapely.geometry import Polygon
+
+from arenas import Arena, ArenaError
+
+from ..errors import SearchError
+from ..green import Field, GreenSolver
+from .base import Reading, World
+
+__all__ = ["PoissonWorld", "Mismatch", "TRUTH_MESH_RATIO", "cached_solver", "shifted_walls"]
+
+#: The true signal is computed on a mesh this much finer than the strategy's, so the
+#: data do not come from the very model that inverts them (no "inverse crime").
+TRUTH_MESH_RATIO = 0.7
+
+
+@lru_cache(maxsize=8)
+def cached_solver(arena: Arena, h: float, order: int = 1) -> GreenSolver:
+    """A :class:`GreenSolver` shared across episodes on the same arena geometry (pass
+    ``arena.without_scenario()``): meshed and factorized once per process."""
+    from ..spaces import mesh_space
+    mesh = mesh_space(arena, float(h)) if order == 1 else None
+    return GreenSolver(arena, h=h, order=order, mesh=mesh)
+
+
+@dataclass(frozen=True)
+class Mismatch:
+    """How the true world differs from what the strategy is told.
+
+    Attributes
+    ----------
+    strength_factor : float
+        True strength = nominal strength × this.
+    wall_shift : float
+        Every obstacle of the true world is grown by this much (cm; negative shrinks it),
+        clipped to the arena: the walls the strategy assumes are off by this.
+    noise_factor : float
+        True noise standard deviation = nominal × this.
+    paint_gamma : float
+        Car floor only: the printed signal is ``u_max (u / u_max)^gamma`` while the
+        sensor's calibration assumes ``gamma = 1`` (a printer's tone curve).
+    """
+
+    strength_factor: float = 1.0
+    wall_shift: float = 0.0
+    noise_factor: float = 1.0
+    paint_gamma: float = 1.0
+
+    def __post_init__(self):
+        for key in ("strength_factor", "noise_factor", "paint_gamma"):
+            val = getattr(self, key)
+            if isinstance(val, bool) or not isinstance(val, (int, float)) or not np.isfinite(val) or val <= 0:
+                raise SearchError(f"mismatch {key} must be a positive number; got {val!r}")
+        if isinstance(self.wall_shift, bool) or not isinstance(self.wall_shift, (int, float)) \
+                or not np.isfinite(self.wall_shift) or abs(self.wall_shift) > 5:
+            raise SearchError(f"mismatch wall_shift must be a number of cm in [-5, 5]; got {self.wall_shift!r}")
+
+    @classmethod
+    def from_dict(cls, data: dict | None) -> "Mismatch":
+        data = dict(data or {})
+        unknown = set(data) - set(cls.__dataclass_fields__)
+        if unknown:
+            raise SearchError(f"unknown mismatch option(s) {', '.join(sorted(unknown))}; choose from "
+                              f"{', '.join(cls.__dataclass_fields__)}")
+        return cls(**data)
+
+    @property
+    def none(self) -> bool:
+        return self == Mismatch()
+
+
+def shifted_walls(arena: Arena, shift: float) -> Arena:
+    """`arena` with every obstacle grown by `shift` cm (negative: shrunk), mitred
+    corners, clipped to the boundary. The source and start are kept."""
+    if shift == 0:
+        return arena
+    outer = Polygon(arena.boundary)
+    obstacles = []
+    for o in arena.obstacles:
+        grown = Polygon(o).buffer(shift, join_style="mitre", mitre_limit=3.0).intersection(outer)
+        if grown.is_empty:
+            continue
+        if grown.geom_type != "Polygon":
+            grown = max(grown.geoms, key=lambda g: g.area)
+        obstacles.append(np.asarray(grown.exterior.coords)[:-1])
+    try:
+        out = Arena.from_polygons(arena.boundary, obstacles, name=arena.name, strength=arena.strength)
+        return out.with_scenario(source=arena.source, start=arena.start)
+    except ArenaError as exc:
+        raise SearchError(f"wall_shift of {shift:g} cm makes arena {arena.name!r} invalid: {exc}") from None
+
+
+@lru_cache(maxsize=4)
+def _floor(arena: Arena, source: tuple, strength: float, h: float, px_per_mm: float, gamma: float):
+    from arenas import render_floor
+    field = cached_solver(arena, h).field(np.array(source), strength)
+    floor = render_floor(arena, field, px_per_mm=px_per_mm)
+    if gamma == 1.0:
+        return floor
+    u_max = floor.mapping.u_max
+    printed = Field(field.solver, u_max * np.clip(field.dofs / u_max, 0, None) ** gamma, "u printed")
+    return render_floor(arena, printed, px_per_mm=px_per_mm, mapping=floor.mapping)
+
+
+class PoissonWorld(World):
+    """Truth of the Poisson arena: the FEM field of the true source, read with noise.
+
+    Parameters
+    ----------
+    arena : Arena
+        The nominal arena with its true source and nominal strength (cm).
+    noise : float
+        Nominal noise standard deviation of one reading (signal units).
+    h : float
+        Mesh size of the truth, cm (finer than a strategy's 1 cm by default).
+    mismatch : Mismatch, optional
+        How the truth departs from what the strategy is told.
+    success_radius : float
+        A converged estimate within this distance (cm) succeeds.
+    """
+
+    kind = "poisson"
+
+    def __init__(self, arena: Arena, *, noise: float = 12.0, h: float = TRUTH_MESH_RATIO,
+                 mismatch: Mismatch | None = None, success_radius: float = 5.0):
+        if arena.source is None:
+            raise SearchError(f"arena {arena.name!r} has no true source: give source: [x, y]")
+        if not np.isfinite(noise) or noise < 0:
+            raise SearchError(f"noise must be a non-negative number; got {noise!r}")
+        self.arena = arena
+        self.mismatch = mismatch or Mismatch()
+        self.true_arena = shifted_walls(arena, self.mismatch.wall_shift)
+        if not self.true_arena.contains(arena.source[None])[0]:
+            raise SearchError("the source lies inside a shifted wall: reduce wall_shift")
+        self.source = np.asarray(arena.source, dtype=float)
+        self.strength = float(arena.strength) * self.mismatch.strength_factor
+        self.noise = float(noise)
+        self.true_noise = self.noise * self.mismatch.noise_factor
+        self.h = float(h)
+        self.success_radius = float(success_radius)
+        self._field: Field | None = None
+
+    @property
+    def field(self) -> Field:
+        """The true signal ``u`` (a field evaluable at any points, cm)."""
+        if self._field is None:
+            solver = cached_solver(self.true_arena.without_scenario(), self.h)
+            self._field = solver.field(self.source, self.strength)
+        return self._field
+
+    def read(self, position, *, time: float = 0.0, dwell: float = 0.0,
+             rng: np.random.Generator) -> Reading:
+        value = float(self.field(np.asarray(position, dtype=float)[None, :2])[0])
+        if not np.isfinite(value):
+            raise SearchError(f"position ({position[0]:.4g}, {position[1]:.4g}) is not in the free region")
+        return Reading(value + self.true_noise * float(rng.standard_normal()))
+
+    def contains(self, points) -> np.ndarray:
+        return self.true_arena.contains(np.atleast_2d(np.asarray(points, dtype=float)))
+
+    def floor(self, px_per_mm: float = 1.0):
+        """The testbed floor painted from the true field (the car's truth): the signal as
+        printed (with the `paint_gamma` mismatch) and the grey mapping the calibration
+        assumes (the nominal print). Cached per process."""
+        return _floor(self.true_arena.without_scenario(), tuple(self.source.tolist()), self.strength,
+                      self.h, float(px_per_mm), self.mismatch.paint_gamma)
+
+    def nominal(self) -> dict:
+        return dict(arena=replace(self.arena, source=None), strength=float(self.arena.strength), noise=self.noise)
+
+    def describe(self) -> dict:
+        return dict(noise=self.noise, truth_h=self.h, mismatch=asdict(self.mismatch))

@@ -1,0 +1,90 @@
+"""The ``poisson`` world kind of scenario files: parameters, world, platforms."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import arenas
+from arenas import Arena, ArenaError
+
+from ..errors import SearchError
+from ..scenarios import WorldKind, register_world
+from .poisson import Mismatch, PoissonWorld, TRUTH_MESH_RATIO
+
+__all__ = ["POISSON", "POISSON_KEYS"]
+
+#: Parameters of a ``poisson`` scenario.
+POISSON_KEYS = ("arena", "source", "strength", "noise", "truth_h", "mismatch")
+
+
+def _check(params: dict) -> dict:
+    unknown = set(params) - set(POISSON_KEYS)
+    if unknown:
+        raise SearchError(f"unknown poisson world parameter(s) {', '.join(sorted(unknown))}; "
+                          f"choose from {', '.join(POISSON_KEYS)}")
+    out = dict(params)
+    a = params.get("arena")
+    try:
+        if isinstance(a, Arena):
+            arena = a
+        elif isinstance(a, dict):
+            arena = arenas.from_dict(a, where="scenario arena")
+        elif a is None:
+            raise SearchError("a poisson scenario needs an arena: a built-in name, a file or a mapping")
+        else:
+            arena = arenas.load(a)
+        arena = arena.with_scenario(source=params.get("source"), strength=params.get("strength"))
+    except ArenaError as exc:
+        raise SearchError(str(exc)) from None
+    if arena.source is None:
+        raise SearchError(f"arena {arena.name!r} has no source: give source: [x, y]")
+    out["arena"] = arena
+    out["source"] = arena.source.tolist()
+    out["strength"] = float(arena.strength)
+    noise = params.get("noise", 12.0)
+    if isinstance(noise, bool) or not isinstance(noise, (int, float)) or not np.isfinite(noise) or noise < 0:
+        raise SearchError(f"noise must be a non-negative number (signal units); got {noise!r}")
+    out["noise"] = float(noise)
+    h = params.get("truth_h", TRUTH_MESH_RATIO)
+    if isinstance(h, bool) or not isinstance(h, (int, float)) or not 0.1 <= h <= 10:
+        raise SearchError(f"truth_h must be a mesh size in cm between 0.1 and 10; got {h!r}")
+    out["truth_h"] = float(h)
+    m = params.get("mismatch") or {}
+    if isinstance(m, Mismatch):
+        m = m.__dict__
+    if not isinstance(m, dict):
+        raise SearchError(f"mismatch must be a mapping of options; got {m!r}")
+    out["mismatch"] = Mismatch.from_dict(m)
+    return out
+
+
+def _build(params: dict, rng: np.random.Generator) -> PoissonWorld:
+    return PoissonWorld(params["arena"], noise=params["noise"], h=params["truth_h"],
+                        mismatch=params["mismatch"])
+
+
+def _default_start(world: PoissonWorld, rng: np.random.Generator) -> np.ndarray:
+    if world.arena.start is not None:
+        return world.arena.start.copy()
+    p = world.arena.random_free_points(1, rng, clearance=5.0)[0]
+    return np.array([p[0], p[1], rng.uniform(0, 2 * np.pi)])
+
+
+def _point(world: PoissonWorld, scenario, options: dict):
+    from ..platforms import PointPlatform
+    from ..spaces import mesh_space
+    unknown = set(options) - {"dwell", "route_h"}
+    if unknown:
+        raise SearchError(f"unknown point-observer option(s) {', '.join(sorted(unknown))}; "
+                          "choose from dwell, route_h")
+    space = mesh_space(world.true_arena.without_scenario(), float(options.get("route_h", world.h)))
+    return PointPlatform(space, dwell=float(options.get("dwell", 1.0)))
+
+
+def _car(world: PoissonWorld, scenario, options: dict):
+    from ..car_platform import make_car_platform
+    return make_car_platform(world, **options)
+
+
+POISSON = register_world(WorldKind("poisson", _check, _build, {"point": _point, "car": _car},
+                                   _default_start))
