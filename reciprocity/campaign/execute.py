@@ -1,0 +1,213 @@
+"""Running a campaign on Dask: a local cluster by default, any scheduler by address.
+
+The driver keeps a bounded window of episodes in flight (a sliding window over
+``as_completed``), so its memory does not grow with the campaign; finished rows are
+buffered and written as one Parquet batch every `flush_rows` rows or `flush_seconds`
+seconds. Episodes already in the folder are skipped, so re-running the same command
+resumes a campaign, even one whose driver was killed.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import sys
+import time
+import uuid
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import SearchError
+from .spec import CampaignSpec
+from .store import ResultStore
+from .worker import _one_line, cache_stats, failure_row, run_task
+
+__all__ = ["CampaignResult", "run_campaign", "dask_client", "CONNECT_TIMEOUT_S"]
+
+#: Seconds to wait for a Dask scheduler given by address before giving up.
+CONNECT_TIMEOUT_S = 10.0
+
+
+@dataclass
+class CampaignResult:
+    """What one run of :func:`run_campaign` did.
+
+    Attributes
+    ----------
+    directory : Path
+        Results folder.
+    n_episodes : int
+        Episodes in the spec.
+    n_skipped : int
+        Episodes already in the folder before this run (not re-run).
+    n_run : int
+        Episodes run and stored by this run.
+    n_failed : int
+        Of those, episodes that raised (stored with their ``error_message``).
+    wall_time_s : float
+        Duration of this run, s (including the cluster's start).
+    cache_stats : dict
+        Worker address -> ``{"module.function": (hits, misses)}`` of the set-up caches
+        at the end of the run (see :func:`reciprocity.campaign.worker.cache_stats`).
+    """
+
+    directory: Path
+    n_episodes: int
+    n_skipped: int
+    n_run: int = 0
+    n_failed: int = 0
+    wall_time_s: float = 0.0
+    cache_stats: dict = field(default_factory=dict)
+
+
+@contextlib.contextmanager
+def dask_client(workers: int | None = None, scheduler: str | None = None, *,
+                timeout: float = CONNECT_TIMEOUT_S) -> Iterator:
+    """A Dask client: on a new local cluster, or connected to `scheduler`.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Local worker processes (one thread each); default: one per CPU core.
+    scheduler : str, optional
+        Address of a running scheduler (``tcp://host:8786``); its workers must have
+        this package installed and read scenario files at the same paths.
+    timeout : float
+        Seconds to wait for `scheduler` to answer.
+
+    Yields
+    ------
+    distributed.Client
+
+    Raises
+    ------
+    SearchError
+        Both or invalid `workers`/`scheduler`, or no scheduler answering in time.
+    """
+    from distributed import Client, LocalCluster
+    if workers is not None and scheduler is not None:
+        raise SearchError("give either --workers N (a local cluster) or --scheduler ADDRESS, not both")
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout=timeout)
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise SearchError(f"no Dask scheduler answers at {scheduler!r} within {timeout:g} s "
+                              f"({_one_line(exc).split(':')[0]}); start one with 'dask scheduler' "
+                              "or run locally with --workers N") from None
+        with client:
+            yield client
+        return
+    n = workers if workers is not None else (os.cpu_count() or 1)
+    if n < 1:
+        raise SearchError(f"--workers must be at least 1; got {n}")
+    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        yield client
+
+
+def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
+                 scheduler: str | None = None, progress: bool | None = None,
+                 window: int | None = None, flush_rows: int = 64, flush_seconds: float = 5.0,
+                 timeout: float = CONNECT_TIMEOUT_S) -> CampaignResult:
+    """Run (or resume) a campaign, storing every finished episode under `directory`.
+
+    Parameters
+    ----------
+    spec : CampaignSpec
+        The validated campaign.
+    directory : path-like
+        Results folder (see :class:`reciprocity.campaign.store.ResultStore`).
+    workers : int, optional
+        Local worker processes; default: one per CPU core.
+    scheduler : str, optional
+        Address of a Dask scheduler to use instead of a local cluster.
+    progress : bool, optional
+        Show a progress bar (done, failed, ETA); default: when stderr is a terminal.
+    window : int, optional
+        Episodes in flight at once; default: 8 per worker thread (at least 16).
+    flush_rows : int
+        Write a batch once this many rows are buffered.
+    flush_seconds : float
+        ... or once the oldest buffered row is this old, s (what a killed driver loses
+        at most, in episodes to re-run).
+    timeout : float
+        Seconds to wait for `scheduler`.
+
+    Returns
+    -------
+    CampaignResult
+
+    Raises
+    ------
+    SearchError
+        Bad folder, a different spec in it, bad `workers`, or no scheduler answering; all
+        before any episode runs. A failing episode does not raise: it is stored with its
+        ``error_message``.
+    """
+    from tqdm import tqdm
+    t0 = time.perf_counter()
+    with ResultStore.open(directory, spec) as store:
+        done = store.finished_ids()
+        n_todo = sum(1 for t in spec.tasks() if t.episode_id not in done)
+        result = CampaignResult(Path(directory), spec.n_episodes, spec.n_episodes - n_todo)
+        if n_todo == 0:
+            result.wall_time_s = time.perf_counter() - t0
+            return result
+        pending = (t for t in spec.tasks() if t.episode_id not in done)
+        with dask_client(workers, scheduler, timeout=timeout) as client:
+            threads = sum(client.nthreads().values()) or 1
+            show = sys.stderr.isatty() if progress is None else progress
+            with tqdm(total=spec.n_episodes, initial=result.n_skipped, unit="ep", desc=spec.name,
+                      disable=not show, file=sys.stderr, dynamic_ncols=True) as bar:
+                bar.set_postfix_str("failed 0")
+                _drive(client, pending, store, result, bar, window or max(16, 8 * threads),
+                       flush_rows, flush_seconds)
+            result.cache_stats = client.run(cache_stats)
+    result.wall_time_s = time.perf_counter() - t0
+    return result
+
+
+def _drive(client, pending, store: ResultStore, result: CampaignResult, bar, window: int,
+           flush_rows: int, flush_seconds: float) -> None:
+    """Keep `window` episodes in flight; store rows in batches as they finish."""
+    from distributed import as_completed
+    run_id = uuid.uuid4().hex[:8]
+    inflight = {}
+    finished = as_completed()
+
+    def submit_next() -> None:
+        task = next(pending, None)
+        if task is not None:
+            fut = client.submit(run_task, task, key=f"{task.campaign}:{task.episode_id}:{run_id}",
+                                pure=False)
+            inflight[fut.key] = task
+            finished.add(fut)
+
+    for _ in range(window):
+        submit_next()
+    buffer, oldest = [], time.monotonic()
+    try:
+        for fut in finished:
+            task = inflight.pop(fut.key)
+            try:
+                row = fut.result()
+            except Exception as exc:  # the worker died or the task was lost
+                row = failure_row(task, f"worker lost: {_one_line(exc)}")
+            fut.release()
+            if not buffer:
+                oldest = time.monotonic()
+            buffer.append(row)
+            result.n_run += 1
+            result.n_failed += row["error_message"] is not None
+            bar.update(1)
+            bar.set_postfix_str(f"failed {result.n_failed}", refresh=False)
+            if len(buffer) >= flush_rows or time.monotonic() - oldest >= flush_seconds:
+                store.write(buffer)
+                buffer.clear()
+            submit_next()
+    finally:
+        # rows of finished episodes are results even when the driver is interrupted
+        if buffer:
+            store.write(buffer)

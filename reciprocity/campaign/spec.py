@@ -1,0 +1,446 @@
+"""Campaign specifications: which strategies, scenarios, platform and seeds to run.
+
+A specification is a YAML mapping (read with ``yaml.safe_load``)::
+
+    name: paper-vs-maze            # optional; default: the file's stem
+    seed: 2026                     # campaign seed (default 0); --seed overrides it
+    seeds: 20                      # episodes per (scenario, strategy variant)
+    platform: point                # point | car | omitted: the scenario's default
+    agents: 3                      # optional: number of observers
+    random_source: true            # optional: draw source and start per seed (see below)
+    strategies: [reciprocity, gradient]
+    #   or a mapping name -> {parameter: value or [grid values]}:
+    #   strategies:
+    #     reciprocity: {eps: [0.05, 0.1], h: 4.0}   # two variants
+    #     gradient: {}
+    scenarios:
+      - paper                      # a built-in name or a YAML file (relative to the spec)
+      - name: maze
+        label: maze-noisy          # optional: the name used in results (default: the name)
+        world: {noise: 20}         # optional: overrides of the world (mismatch options)
+        random_source: false       # optional: per scenario
+
+A list value in a strategy mapping is a grid axis: the variants are the cartesian
+product of all axes (to pass a list as a single value, wrap it: ``[[1, 2]]``).
+
+``random_source: true`` (arena scenarios): every seed index draws the true source at
+least :data:`SOURCE_CLEARANCE` cm from the walls and the start at least
+:data:`START_CLEARANCE` cm from them with a uniform heading, from a stream derived from
+the episode seed, so all strategies of a scenario meet the same world on the same seed.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import inspect
+import itertools
+import json
+import re
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from ..errors import SearchError
+from ..scenarios import load_scenario, scenario_names
+
+__all__ = ["CampaignSpec", "ScenarioEntry", "StrategyVariant", "EpisodeTask", "load_spec",
+           "parse_spec", "episode_seed", "SOURCE_CLEARANCE", "START_CLEARANCE"]
+
+#: Minimum wall distance of a drawn source, cm: closer to a Dirichlet wall the signal is
+#: buried in the noise everywhere.
+SOURCE_CLEARANCE = 8.0
+#: Minimum wall distance of a drawn start, cm.
+START_CLEARANCE = 5.0
+
+_TOP_KEYS = {"name", "seed", "seeds", "platform", "agents", "random_source", "strategies",
+             "scenarios"}
+_SCENARIO_KEYS = {"name", "label", "world", "random_source"}
+_LABEL = re.compile(r"^[A-Za-z][A-Za-z0-9_.+-]*$")
+
+
+@dataclass(frozen=True)
+class StrategyVariant:
+    """One point of a strategy's parameter grid.
+
+    Attributes
+    ----------
+    strategy : str
+        Strategy name (a key of :data:`reciprocity.strategies.STRATEGIES`).
+    params : dict
+        Parameter values of this variant.
+    label : str
+        ``name`` alone, or ``name[k=v,...]`` with the grid axes' values.
+    """
+
+    strategy: str
+    params: dict
+    label: str
+
+
+@dataclass(frozen=True)
+class ScenarioEntry:
+    """A scenario of the campaign.
+
+    Attributes
+    ----------
+    ref : str
+        Built-in scenario name, or the absolute path of a scenario file.
+    label : str
+        The name under which results are stored (``scenario`` column, partition).
+    world : dict
+        Overrides of the world's parameters passed to :func:`reciprocity.api.run`.
+    random_source : bool
+        Draw the true source and start per seed index.
+    file_digest : str or None
+        SHA-256 of the scenario file (None for a built-in), part of the spec hash.
+    """
+
+    ref: str
+    label: str
+    world: dict
+    random_source: bool
+    file_digest: str | None = None
+
+
+@dataclass(frozen=True)
+class EpisodeTask:
+    """Everything a worker needs to run one episode (small; pickled into a Dask task).
+
+    Attributes
+    ----------
+    campaign : str
+        Campaign name.
+    episode_id : str
+        ``scenario/variant/seed_index``, unique in a campaign.
+    scenario : ScenarioEntry
+        The scenario.
+    variant : StrategyVariant
+        The strategy and its parameters.
+    platform, agents
+        As in the spec (None: the scenario's or strategy's default).
+    seed_index : int
+        Index of the seed, 0 ... seeds - 1.
+    seed : int
+        Episode seed, from :func:`episode_seed`.
+    """
+
+    campaign: str
+    episode_id: str
+    scenario: ScenarioEntry
+    variant: StrategyVariant
+    platform: str | None
+    agents: int | None
+    seed_index: int
+    seed: int
+
+
+def episode_seed(campaign_seed: int, seed_index: int) -> int:
+    """The integer seed of every episode with seed index `seed_index`.
+
+    It depends only on the campaign seed and the index, never on the worker or the
+    order of execution; all strategies and scenarios share it (paired comparisons).
+
+    Parameters
+    ----------
+    campaign_seed : int
+        The campaign's seed (non-negative).
+    seed_index : int
+        Index of the episode's seed, 0 ... seeds - 1.
+
+    Returns
+    -------
+    int
+        A seed in [0, 2**63).
+
+    Examples
+    --------
+    >>> episode_seed(0, 3) == episode_seed(0, 3) != episode_seed(1, 3)
+    True
+    """
+    ss = np.random.SeedSequence(campaign_seed, spawn_key=(seed_index,))
+    return int(ss.generate_state(1, dtype=np.uint64)[0] >> np.uint64(1))
+
+
+@dataclass(frozen=True)
+class CampaignSpec:
+    """A validated campaign: strategy variants × scenarios × seeds.
+
+    Attributes
+    ----------
+    name : str
+        Campaign name (the ``campaign`` column).
+    seed : int
+        Campaign seed.
+    seeds : int
+        Episodes per (scenario, variant).
+    platform : str or None
+        Observer platform; None: each scenario's default.
+    agents : int or None
+        Number of observers; None: each strategy's default.
+    variants : tuple of StrategyVariant
+    scenarios : tuple of ScenarioEntry
+    source : dict
+        The normalized specification (what :attr:`digest` hashes), JSON-compatible.
+    """
+
+    name: str
+    seed: int
+    seeds: int
+    platform: str | None
+    agents: int | None
+    variants: tuple[StrategyVariant, ...]
+    scenarios: tuple[ScenarioEntry, ...]
+    source: dict = field(repr=False)
+
+    @property
+    def n_episodes(self) -> int:
+        """Number of episodes of the campaign."""
+        return self.seeds * len(self.variants) * len(self.scenarios)
+
+    @property
+    def digest(self) -> str:
+        """SHA-256 of the normalized spec without ``seeds`` (so a campaign may grow).
+
+        Two specs with the same digest produce the same row for the same episode id.
+        """
+        body = {k: v for k, v in self.source.items() if k != "seeds"}
+        return hashlib.sha256(json.dumps(body, sort_keys=True).encode()).hexdigest()
+
+    def tasks(self) -> Iterator[EpisodeTask]:
+        """All episodes, lazily: per scenario, per seed index, every variant in turn.
+
+        The variants of one seed come together, so the pairs of a paired comparison
+        finish close in time.
+        """
+        for sc in self.scenarios:
+            for i in range(self.seeds):
+                seed = episode_seed(self.seed, i)
+                for v in self.variants:
+                    yield EpisodeTask(self.name, f"{sc.label}/{v.label}/{i}", sc, v,
+                                      self.platform, self.agents, i, seed)
+
+
+def load_spec(path, *, seed: int | None = None) -> CampaignSpec:
+    """Read and validate a campaign spec file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        YAML file.
+    seed : int, optional
+        Overrides the spec's campaign seed.
+
+    Returns
+    -------
+    CampaignSpec
+
+    Raises
+    ------
+    SearchError
+        Unreadable file, malformed YAML, or an invalid spec (see :func:`parse_spec`).
+    """
+    p = Path(path)
+    try:
+        data = yaml.safe_load(p.read_text())
+    except OSError as exc:
+        raise SearchError(f"cannot read campaign spec {str(p)!r}: {exc.strerror}") from None
+    except yaml.YAMLError as exc:
+        raise SearchError(f"campaign spec {str(p)!r} is not valid YAML: "
+                          f"{str(exc).splitlines()[0]}") from None
+    if not isinstance(data, Mapping):
+        raise SearchError(f"campaign spec {str(p)!r} must be a YAML mapping with strategies, "
+                          "scenarios and seeds")
+    data = dict(data)
+    data.setdefault("name", p.stem)
+    if seed is not None:
+        data["seed"] = seed
+    return parse_spec(data, base_dir=p.parent)
+
+
+def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
+    """Validate a spec mapping (the parsed YAML) without running anything heavy.
+
+    Every (scenario, variant) pair is checked with :func:`reciprocity.api.check`.
+
+    Parameters
+    ----------
+    data : Mapping
+        The specification (see the module docstring).
+    base_dir : path-like, optional
+        Folder that relative scenario files are resolved against (default: the
+        current directory).
+
+    Returns
+    -------
+    CampaignSpec
+
+    Raises
+    ------
+    SearchError
+        One line saying what is wrong: unknown key, strategy, scenario or parameter,
+        an empty grid, a strategy that does not apply to a scenario's world, ...
+    """
+    unknown = sorted(set(data) - _TOP_KEYS)
+    if unknown:
+        raise SearchError(f"unknown campaign spec key(s) {', '.join(map(repr, unknown))}; "
+                          f"allowed: {', '.join(sorted(_TOP_KEYS))}")
+    for key in ("strategies", "scenarios", "seeds"):
+        if key not in data:
+            raise SearchError(f"the campaign spec needs {key!r}")
+    name = _label(data.get("name", "campaign"), "campaign name")
+    seed = _int(data.get("seed", 0), "seed", minimum=0)
+    seeds = _int(data["seeds"], "seeds", minimum=1)
+    platform = data.get("platform")
+    agents = None if data.get("agents") is None else _int(data["agents"], "agents", minimum=1)
+    random_source = _bool(data.get("random_source", False), "random_source")
+    variants = _variants(data["strategies"])
+    scenarios = _scenarios(data["scenarios"], random_source, Path(base_dir or "."))
+    _check_pairs(scenarios, variants, platform, agents)
+    source = dict(name=name, seed=seed, seeds=seeds, platform=platform, agents=agents,
+                  strategies={v.label: {"strategy": v.strategy, "params": v.params}
+                              for v in variants},
+                  scenarios=[dict(ref=s.ref, label=s.label, world=s.world,
+                                  random_source=s.random_source, file_digest=s.file_digest)
+                             for s in scenarios])
+    _jsonable(source)
+    return CampaignSpec(name, seed, seeds, platform, agents, tuple(variants), tuple(scenarios),
+                        source)
+
+
+def _int(value, what: str, *, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise SearchError(f"{what} must be an integer >= {minimum}; got {value!r}")
+    return value
+
+
+def _bool(value, what: str) -> bool:
+    if not isinstance(value, bool):
+        raise SearchError(f"{what} must be true or false; got {value!r}")
+    return value
+
+
+def _label(value, what: str) -> str:
+    if not isinstance(value, str) or not _LABEL.match(value):
+        raise SearchError(f"{what} must start with a letter and hold only letters, digits and "
+                          f"_ . + -; got {value!r}")
+    return value
+
+
+def _jsonable(source: dict) -> None:
+    try:
+        json.dumps(source)
+    except TypeError as exc:
+        raise SearchError(f"campaign spec values must be numbers, strings, booleans, lists or "
+                          f"mappings: {exc}") from None
+
+
+def _variants(strategies) -> list[StrategyVariant]:
+    from ..strategies import STRATEGIES
+    if isinstance(strategies, str):
+        strategies = [strategies]
+    if isinstance(strategies, list):
+        strategies = {s: {} for s in strategies}
+    if not isinstance(strategies, Mapping) or not strategies:
+        raise SearchError("strategies must be a non-empty list of names or a mapping "
+                          "name -> {parameter: value or [grid values]}")
+    out = []
+    for name, params in strategies.items():
+        if name not in STRATEGIES:
+            raise SearchError(f"unknown strategy {name!r} in the campaign spec; choose from "
+                              f"{', '.join(STRATEGIES)}")
+        params = params or {}
+        if not isinstance(params, Mapping):
+            raise SearchError(f"parameters of strategy {name!r} must be a mapping "
+                              f"parameter -> value or [grid values]; got {params!r}")
+        _check_param_names(name, STRATEGIES[name], params)
+        axes = {k: v for k, v in params.items() if isinstance(v, list)}
+        for k, v in axes.items():
+            if not v:
+                raise SearchError(f"empty grid: strategy {name!r} parameter {k!r} lists no values")
+        fixed = {k: v for k, v in params.items() if k not in axes}
+        for combo in itertools.product(*axes.values()):
+            grid = dict(zip(axes, combo))
+            label = name if not grid else name + "[" + ",".join(
+                f"{k}={_short(v)}" for k, v in grid.items()) + "]"
+            out.append(StrategyVariant(name, {**fixed, **grid}, label))
+    return out
+
+
+def _short(value) -> str:
+    return json.dumps(value, separators=(",", ":")).replace('"', "")
+
+
+def _check_param_names(name: str, cls, params: Mapping) -> None:
+    sig = inspect.signature(cls.__init__)
+    if any(p.kind is p.VAR_KEYWORD for p in sig.parameters.values()):
+        return
+    allowed = [p for p in sig.parameters if p not in ("self", "solver")]
+    bad = sorted(set(params) - set(allowed))
+    if bad:
+        raise SearchError(f"strategy {name!r} has no parameter(s) {', '.join(map(repr, bad))}; "
+                          f"its parameters are {', '.join(allowed)}")
+
+
+def _scenarios(scenarios, random_source: bool, base_dir: Path) -> list[ScenarioEntry]:
+    if isinstance(scenarios, str):
+        scenarios = [scenarios]
+    if not isinstance(scenarios, list) or not scenarios:
+        raise SearchError("scenarios must be a non-empty list of names, files or mappings "
+                          "{name: ..., label: ..., world: {...}}")
+    out = []
+    for item in scenarios:
+        entry = {"name": item} if isinstance(item, str) else item
+        if not isinstance(entry, Mapping) or "name" not in entry:
+            raise SearchError(f"a scenario must be a name or a mapping with 'name'; got {item!r}")
+        unknown = sorted(set(entry) - _SCENARIO_KEYS)
+        if unknown:
+            raise SearchError(f"unknown key(s) {', '.join(map(repr, unknown))} in scenario "
+                              f"{entry['name']!r}; allowed: {', '.join(sorted(_SCENARIO_KEYS))}")
+        ref, digest = _resolve_scenario(str(entry["name"]), base_dir)
+        default_label = ref if digest is None else Path(ref).stem
+        label = _label(entry.get("label", default_label), "scenario label")
+        world = entry.get("world") or {}
+        if not isinstance(world, Mapping):
+            raise SearchError(f"world of scenario {label!r} must be a mapping; got {world!r}")
+        rs = _bool(entry.get("random_source", random_source), f"random_source of {label!r}")
+        if rs and ({"source", "start"} & set(world)):
+            raise SearchError(f"scenario {label!r}: random_source draws the source and start; "
+                              "remove them from world or set random_source: false")
+        out.append(ScenarioEntry(ref, label, dict(world), rs, digest))
+    labels = [s.label for s in out]
+    dup = sorted({x for x in labels if labels.count(x) > 1})
+    if dup:
+        raise SearchError(f"scenario label(s) {', '.join(dup)} appear twice; give each entry "
+                          "a distinct label")
+    return out
+
+
+def _resolve_scenario(name: str, base_dir: Path) -> tuple[str, str | None]:
+    if name in scenario_names():
+        return name, None
+    path = Path(name) if Path(name).is_absolute() else base_dir / name
+    if not path.is_file():
+        raise SearchError(f"unknown scenario {name!r} in the campaign spec: not a built-in "
+                          f"({', '.join(scenario_names())}) nor a file")
+    return str(path.resolve()), hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _check_pairs(scenarios, variants, platform, agents) -> None:
+    from .. import api
+    from ..strategies import STRATEGIES
+    for sc in scenarios:
+        scenario = load_scenario(sc.ref)
+        if sc.random_source and scenario.world != "poisson":
+            raise SearchError(f"scenario {sc.label!r}: random_source applies to arena scenarios "
+                              f"(world 'poisson'), not to world {scenario.world!r}")
+        for v in variants:
+            worlds = getattr(STRATEGIES[v.strategy], "worlds", ("poisson",))
+            if scenario.world not in worlds:
+                raise SearchError(f"strategy {v.strategy!r} does not apply to scenario "
+                                  f"{sc.label!r} (world {scenario.world!r}); it applies to "
+                                  f"{', '.join(worlds)}")
+            api.check(scenario, v.strategy, params=v.params, platform=platform, agents=agents,
+                      world=sc.world)
