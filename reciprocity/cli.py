@@ -215,6 +215,8 @@ def build_parser() -> argparse.ArgumentParser:
                       help="observer: the simulated micro-car (default) or a point")
     _common(demo)
     demo.set_defaults(func=cmd_demo)
+    from .campaign.cli import add_commands
+    add_commands(sub)
     return parser
 
 

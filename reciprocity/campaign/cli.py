@@ -1,0 +1,114 @@
+"""The ``campaign``, ``report`` and ``reproduce`` commands of the ``reciprocity`` CLI.
+
+``reciprocity.cli.build_parser`` calls :func:`add_commands`; every handler returns the
+exit code and raises :class:`reciprocity.errors.SearchError` on bad input (exit 2).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..errors import SearchError
+
+__all__ = ["add_commands"]
+
+
+def _where(p: argparse.ArgumentParser) -> None:
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=int, metavar="N",
+                   help="local Dask worker processes, one thread each (default: one per core)")
+    g.add_argument("--scheduler", metavar="ADDRESS",
+                   help="address of a running Dask scheduler, e.g. tcp://host:8786")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _progress(args) -> bool | None:
+    return False if args.quiet else None
+
+
+def _ran(result) -> str:
+    return (f"{result.n_run} episodes run ({result.n_failed} failed), {result.n_skipped} already "
+            f"in {result.directory}/, {result.wall_time_s:.1f} s; {_cache_line(result.cache_stats)}")
+
+
+def _cache_line(stats: dict) -> str:
+    if not stats:
+        return "no workers started"
+    hits = sum(h for per in stats.values() for h, _ in per.values())
+    misses = sum(m for per in stats.values() for _, m in per.values())
+    return f"set-up caches on {len(stats)} workers: {hits} hits, {misses} misses"
+
+
+def cmd_campaign(args) -> int:
+    """``reciprocity campaign SPEC.yaml --out DIR``: run or resume a campaign."""
+    from .execute import run_campaign
+    from .report import build_report
+    from .spec import load_spec
+    spec = load_spec(args.spec, seed=args.seed)
+    result = run_campaign(spec, args.out, workers=args.workers, scheduler=args.scheduler,
+                          progress=_progress(args))
+    print(_ran(result))
+    print(build_report(args.out).markdown(), end="")
+    print(f"figures: reciprocity report {args.out}")
+    return 0
+
+
+def cmd_report(args) -> int:
+    """``reciprocity report DIR [--out DIR]``: tables (stdout, Markdown, CSV) and figures."""
+    from .report import build_report, write_report
+    report = build_report(args.dir)
+    out = Path(args.out) if args.out else Path(args.dir) / "report"
+    write_report(report, args.dir, out)
+    print(report.markdown(), end="")
+    print(f"report.md, CSV tables and figures are in {out}/")
+    return 0
+
+
+def cmd_reproduce(args) -> int:
+    """``reciprocity reproduce TABLE`` / ``--list``: a paper table beside ours."""
+    from .reproduce import TABLES, comparison_markdown, reproduce
+    if args.list:
+        for name, t in TABLES.items():
+            print(f"{name:<22} {t.reference}: {t.title}")
+        return 0
+    if args.table is None:
+        raise SearchError("name a table (reciprocity reproduce --list shows them)")
+    out = args.out or f"reproduce_{args.table}"
+    table, result, rows = reproduce(args.table, out, runs=args.runs, workers=args.workers,
+                                    scheduler=args.scheduler, progress=_progress(args))
+    print(_ran(result))
+    text = comparison_markdown(table, rows)
+    (Path(out) / "comparison.md").write_text(text)
+    print(text, end="")
+    return 0
+
+
+def add_commands(subparsers) -> None:
+    """Add ``campaign``, ``report`` and ``reproduce`` to the ``reciprocity`` parser.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        From ``parser.add_subparsers()``.
+    """
+    c = subparsers.add_parser("campaign", help="strategies × scenarios × seeds on Dask, "
+                              "results as Parquet (re-run to resume)")
+    c.add_argument("spec", metavar="SPEC.yaml", help="campaign spec (see reciprocity.campaign.spec)")
+    c.add_argument("--out", required=True, metavar="DIR", help="results folder")
+    c.add_argument("--seed", type=int, help="campaign seed (overrides the spec's)")
+    _where(c)
+    c.set_defaults(func=cmd_campaign)
+
+    r = subparsers.add_parser("report", help="tables and figures of a campaign's results")
+    r.add_argument("dir", metavar="DIR", help="campaign results folder")
+    r.add_argument("--out", metavar="DIR", help="output folder (default DIR/report)")
+    r.set_defaults(func=cmd_report)
+
+    p = subparsers.add_parser("reproduce", help="re-run a published table beside the paper's numbers")
+    p.add_argument("table", nargs="?", metavar="TABLE", help="table name (see --list)")
+    p.add_argument("--list", action="store_true", help="list the reproducible tables")
+    p.add_argument("--runs", type=int, metavar="N", help="runs per strategy (default: the table's)")
+    p.add_argument("--out", metavar="DIR", help="results folder (default reproduce_TABLE)")
+    _where(p)
+    p.set_defaults(func=cmd_reproduce)
