@@ -55,7 +55,7 @@ def test_spec_file_with_scenario_entries(tmp_path):
     ({"strategies": {"reciprocity": {"epsilon": 0.1}}}, "has no parameter"),
     ({"seeds": 0}, "seeds must be an integer >= 1"),
     ({"seedz": 3}, "unknown campaign spec key"),
-    ({"platform": "boat"}, "unknown platform"),
+    ({"platform": "boat"}, "platform 'boat'"),
     ({"scenarios": [{"name": "empty", "world": {"source": [1, 2]}}], "random_source": True},
      "random_source draws the source"),
     ({"scenarios": ["empty", "empty"]}, "appear twice"),
