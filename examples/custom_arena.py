@@ -1,6 +1,11 @@
 """Draw an arena as a picture, load it, and search with an unknown source strength.
 
     python examples/custom_arena.py [OUT_DIR]
+
+With the strength unknown the imaging map fits ``c`` at every point, which leaves room
+for a confident false mode: over seeds 0-5 of this example the search ends 0.3-2.5 cm
+from the source four times and 46-47 cm off twice (seeds 0 and 5). Seed 1 is the
+default; the false modes are the subject of the expected-information rule (issue 10).
 """
 
 import sys
@@ -25,7 +30,7 @@ def draw_floor_plan(path: Path) -> Path:
     return path
 
 
-def main(out_dir=".", seed: int = 0) -> float:
+def main(out_dir=".", seed: int = 1) -> float:
     """Search a drawn arena; return the final error (cm)."""
     out = Path(out_dir)
     arena = arenas.from_image(draw_floor_plan(out / "floor_plan.png"), cm_per_px=0.5,
@@ -34,7 +39,7 @@ def main(out_dir=".", seed: int = 0) -> float:
     # the strategy does not know c = 500: it fits it at every candidate point
     episode, strategy, platform = search(arena, "reciprocity", seed=seed, h=1.0,
                                          params=dict(strength=None))
-    field_figure(platform.field, arena, title="drawn arena: the true signal").savefig(
+    field_figure(platform.world.field, arena, title="drawn arena: the true signal").savefig(
         out / "floor_plan_signal.png", dpi=120)
     s = episode.summary
     print(f"{len(arena.obstacles)} obstacles from the picture; {s['n_measurements']} measurements, "

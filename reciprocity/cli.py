@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -13,9 +14,11 @@ import yaml
 import arenas
 from arenas import ArenaError
 
+from .api import check, execute, strategy_parameters
 from .errors import ReciprocityError
-from .runner import PLATFORMS, search
+from .scenarios import load_scenario, scenario_description, scenario_names
 from .strategies import STRATEGIES
+from .worlds import TRUTH_MESH_RATIO
 
 __all__ = ["main"]
 
@@ -77,7 +80,7 @@ def _write_figures(out: Path, episode, strategy, platform, arena, *, video: bool
         files.append(out / f"{prefix}_steps.png")
     else:
         floor = platform.testbed.floor if car else None
-        fig = gradient_run_figure(episode, getattr(platform, "field", None), arena, strategy.gradients,
+        fig = gradient_run_figure(episode, platform.world.field, arena, strategy.gradients,
                                   floor=floor)
         files.append(out / f"{prefix}_path.png")
     fig.savefig(files[-1], dpi=150)
@@ -111,38 +114,100 @@ def cmd_arenas(args) -> int:
     return 0
 
 
-def _run_one(args, arena, strategy: str, params: dict, out: Path | None):
-    arena.with_scenario(source=args.source, strength=args.strength, start=args.start)  # validate
+def cmd_scenarios(args) -> int:
+    print(f"{'name':<22} {'world':<9} {'platform':<8}  description")
+    for name in scenario_names():
+        sc = load_scenario(name)
+        print(f"{name:<22} {sc.world:<9} {sc.platform:<8}  {scenario_description(name)}")
+    return 0
+
+
+def cmd_strategies(args) -> int:
+    print(f"{'name':<22} {'worlds':<26} {'observers':<9}  description")
+    for name, cls in STRATEGIES.items():
+        doc = (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
+        agents = "any" if cls.agents is None else str(cls.agents)
+        print(f"{name:<22} {', '.join(cls.worlds):<26} {agents:<9}  {doc}")
+    return 0
+
+
+def _world_overrides(args) -> dict:
+    """The --source/--strength/--start/--noise/--mismatch flags as world overrides."""
+    world = {}
+    if args.source:
+        world["source"] = _floats(args.source, "--source", (2,))
+    if args.strength is not None:
+        if not math.isfinite(args.strength) or args.strength <= 0:
+            raise ReciprocityError(f"--strength must be a positive number; got {args.strength!r}")
+        world["strength"] = args.strength
+    if args.start:
+        st = _floats(args.start, "--start", (2, 3))
+        world["start"] = st[:2] + ([math.radians(st[2])] if len(st) == 3 else [])
+    if args.noise is not None:
+        world["noise"] = args.noise
+    if args.mismatch:
+        world["mismatch"] = _params(args.mismatch, "--mismatch", "strength_factor=1.2")
+    return world
+
+
+def _validate_common(args) -> None:
+    if args.seed < 0:
+        raise ReciprocityError(f"--seed must be a non-negative whole number; got {args.seed}")
+    if not math.isfinite(args.h) or not 0.2 <= args.h <= 20:
+        raise ReciprocityError(f"--h must be a mesh size in cm between 0.2 and 20; got {args.h!r}")
+    if args.noise is not None and (not math.isfinite(args.noise) or args.noise < 0):
+        raise ReciprocityError(f"--noise must be a non-negative number; got {args.noise!r}")
+
+
+def _run_one(args, scenario: str, strategy: str, params: dict, out: Path | None):
+    """Validate everything (cheaply), then run one episode; figures into `out`."""
+    _validate_common(args)
+    world = _world_overrides(args)
+    params = dict(params)
+    if "h" in strategy_parameters(strategy) if strategy in STRATEGIES else False:
+        params.setdefault("h", args.h)
+    sc = load_scenario(scenario)
+    if sc.world == "poisson":
+        world.setdefault("truth_h", args.h * TRUTH_MESH_RATIO)
+    options = _params(args.car, "--car", "planner=bank")
+    platform = getattr(args, "platform", None)
+    if options and (platform or sc.platform) != "car":
+        raise ReciprocityError("--car options need --platform car")
+    agents = getattr(args, "agents", None)
+    check(sc, strategy, params=params, platform=platform, agents=agents, world=world,
+          platform_options=options)
     prog = _progress(strategy) if not args.quiet else None
     try:
-        episode, strat, plat = search(
-            arena, strategy, source=args.source, strength=args.strength, start=args.start,
-            platform=args.platform, seed=args.seed, noise=args.noise, h=args.h,
-            params=params, car=_params(args.car, "--car", "planner=bank") or None, progress=prog)
+        episode, strat, plats = execute(sc, strategy, seed=args.seed, params=params, platform=platform,
+                                        agents=agents, world=world, platform_options=options,
+                                        progress=prog)
     finally:
         if prog is not None:
             prog.close()
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
         episode.to_json(out / f"{strategy}_episode.json")
-        _write_figures(out, episode, strat, plat, arena.with_scenario(source=args.source, start=args.start),
-                       video=args.video)
+        if sc.world == "poisson" and strategy in ("reciprocity", "gradient"):
+            arena = sc.with_world(world).arena
+            start = episode.summary["start"]
+            _write_figures(out, episode, strat, plats[0], arena.with_scenario(start=start), video=args.video)
     return episode
 
 
-def _resolve(args):
-    arena = arenas.load(args.arena)
-    args.source = _floats(args.source, "--source", (2,)) if args.source else None
-    if args.start:
-        st = _floats(args.start, "--start", (2, 3))
-        args.start = st[:2] + ([math.radians(st[2])] if len(st) == 3 else [])
-    return arena
-
-
 def cmd_run(args) -> int:
-    arena = _resolve(args)
+    if (args.arena is None) == (args.scenario is None):
+        raise ReciprocityError("give exactly one of --arena NAME|FILE or --scenario NAME|FILE "
+                               "(see `reciprocity arenas` and `reciprocity scenarios`)")
+    scenario = args.arena if args.arena is not None else args.scenario
+    if args.arena is not None:
+        try:
+            arenas.load(args.arena)
+        except arenas.ArenaError as exc:
+            raise ReciprocityError(str(exc)) from None
     out = Path(args.out) if args.out else None
-    episode = _run_one(args, arena, args.strategy, _params(args.set), out)
+    if args.json:
+        _writable(Path(args.json).parent, "--json")
+    episode = _run_one(args, scenario, args.strategy, _params(args.set), out)
     print(_HEADER)
     print(_summary_line(episode.summary))
     if args.json:
@@ -152,15 +217,22 @@ def cmd_run(args) -> int:
     return 0
 
 
+def _writable(folder: Path, flag: str) -> None:
+    folder = folder if str(folder) else Path(".")
+    if folder.exists() and not os.access(folder, os.W_OK):
+        raise ReciprocityError(f"{flag}: cannot write into {folder}/ (permission denied)")
+
+
 def cmd_demo(args) -> int:
-    args.arena, args.strategy, args.set = "paper", None, []
-    arena = _resolve(args)
+    args.set = []
     out = Path(args.out)
+    _writable(out.parent, "--out")
     rows = []
-    for name in STRATEGIES:
-        rows.append(_run_one(args, arena, name, {}, out).summary)
+    for name in ("reciprocity", "gradient"):
+        rows.append(_run_one(args, "paper", name, {}, out).summary)
     src = rows[0]["source"]
-    noise = "sensor noise 12 ADC counts, 1 s dwell" if args.platform == "car" else f"noise sigma = {args.noise:g}"
+    noise = ("sensor noise 12 ADC counts, 1 s dwell" if args.platform == "car"
+             else f"noise sigma = {12.0 if args.noise is None else args.noise:g}")
     print(f"arena 'paper', source ({src[0]:.2f}, {src[1]:.2f}) cm, start {rows[0]['start'][:2]}, "
           f"{noise}, seed {args.seed}, {args.platform} observer")
     print("time s: simulated driving and measuring time (car); wall s: computing time; "
@@ -168,8 +240,9 @@ def cmd_demo(args) -> int:
     print(_HEADER)
     for s in rows:
         print(_summary_line(s))
-    print("paper (car testbed): reciprocity 7 measurements, error 4.35 cm; "
-          "gradient 8 + 5 gradient measurements = 18 samples, error 5.0 cm")
+    print("for comparison, the paper's own testbed runs (Landa et al., one run each, not ours): "
+          "reciprocity 7 measurements, error 4.35 cm; gradient 8 + 5 gradient measurements = "
+          "18 samples, error 5.0 cm")
     (out / "summary.json").write_text(json.dumps(rows, indent=1))
     print(f"figures, traces and summary.json are in {out}/")
     return 0
@@ -184,26 +257,52 @@ def _common(p: argparse.ArgumentParser) -> None:
                         "reciprocity.runner.CAR_KEYS)")
     p.add_argument("--no-video", dest="video", action="store_false",
                    help="car runs: do not write the MP4 videos into --out")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--noise", type=float, default=12.0,
+    p.add_argument("--seed", type=int, default=0, help="random seed, a whole number >= 0 (default 0)")
+    p.add_argument("--mismatch", action="append", default=[], metavar="KEY=VALUE",
+                   help="make the true world differ from what the strategy is told, e.g. "
+                        "--mismatch strength_factor=1.2, wall_shift=0.3 (cm), noise_factor=2, "
+                        "paint_gamma=0.8 (car floor)")
+    p.add_argument("--noise", type=float, default=None,
                    help="point observer: noise std, signal units (default 12); the car's sensor has "
                         "its own noise, 12 ADC counts")
     p.add_argument("--h", type=float, default=1.0, help="mesh size in cm (default 1)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line on stderr and exit status 2."""
+
+    def error(self, message: str):
+        self.exit(2, f"error: {message} (see `{self.prog} --help`)\n")
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("reciprocity-search")
+    except PackageNotFoundError:
+        return "unknown"
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="reciprocity", description=(
+    parser = _Parser(prog="reciprocity", description=(
         "Reciprocity-based source discovery (Landa et al.): FEM adjoint solves, "
         "probability imaging, and a gradient-ascent baseline."))
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("arenas", help="list the built-in arenas").set_defaults(func=cmd_arenas)
+    sub.add_parser("scenarios", help="list the built-in scenarios (every arena, and the "
+                   "lattice and plume worlds)").set_defaults(func=cmd_scenarios)
+    sub.add_parser("strategies", help="list the strategies and the worlds each applies to"
+                   ).set_defaults(func=cmd_strategies)
     run = sub.add_parser("run", help="run one search episode")
-    run.add_argument("--arena", required=True, help="built-in name or YAML file")
-    run.add_argument("--strategy", required=True, choices=list(STRATEGIES))
+    where = run.add_mutually_exclusive_group()
+    where.add_argument("--arena", help="built-in arena name or arena YAML file (a poisson scenario)")
+    where.add_argument("--scenario", help="built-in scenario name or scenario YAML file")
+    run.add_argument("--strategy", required=True, help="strategy name (see `reciprocity strategies`)")
+    run.add_argument("--agents", type=int, help="number of observers (multi-agent strategies)")
     run.add_argument("--out", help="folder for figures, the full trace (and the video on the car)")
-    run.add_argument("--platform", choices=PLATFORMS, default="point",
-                     help="observer: point, or the simulated micro-car (default point)")
+    run.add_argument("--platform", help="observer: point, car, walker (default: the scenario's)")
     run.add_argument("--json", help="write the episode summary (JSON) to this file")
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                      help="strategy parameter, e.g. --set eps=0.1 (repeatable)")
@@ -211,7 +310,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.set_defaults(func=cmd_run)
     demo = sub.add_parser("demo", help="both strategies on the paper arena, with figures")
     demo.add_argument("--out", default="demo_out", help="output folder (default demo_out)")
-    demo.add_argument("--platform", choices=PLATFORMS, default="car",
+    demo.add_argument("--platform", choices=("point", "car"), default="car",
                       help="observer: the simulated micro-car (default) or a point")
     _common(demo)
     demo.set_defaults(func=cmd_demo)
@@ -222,7 +321,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``reciprocity`` console script; returns the exit code."""
-    args = build_parser().parse_args(argv)
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a usage error (already printed)
+        return int(exc.code or 0)
     try:
         return args.func(args)
     except (ArenaError, ReciprocityError) as exc:

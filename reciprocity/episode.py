@@ -87,7 +87,7 @@ class StepRecord:
         out = dict(step=self.step, agent=self.agent, intent=self.intent, kind=self.kind,
                    targets=np.atleast_2d(self.targets), points=self.points, readings=self.readings,
                    saturated=[bool(o.saturated) for o in self.observations],
-                   times=[float(o.time) for o in self.observations],
+                   observed_at=[float(o.time) for o in self.observations],
                    pose=self.pose, route=self.route, path_length=self.path_length, time=self.time,
                    estimate=self.estimate, region_area=self.region_area)
         if self.message is not None:
@@ -110,8 +110,9 @@ class Episode:
 
     @property
     def trace(self) -> list[dict]:
-        """The records as flat dicts (figures, video, JSON)."""
-        return [r.as_dict() for r in self.records]
+        """The records as flat dicts (figures, video, JSON); an episode read back from
+        JSON holds the dicts themselves."""
+        return [r.as_dict() if isinstance(r, StepRecord) else r for r in self.records]
 
     def to_json(self, path=None, *, with_trace: bool = True) -> str:
         """JSON text of the summary (and trace); also written to `path` when given."""

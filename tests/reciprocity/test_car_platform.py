@@ -7,10 +7,10 @@ import pytest
 
 import arenas
 import reciprocity as r
-from reciprocity.car_platform import CarPlatform, DrivingOptions
+from reciprocity.car_platform import CarPlatform, DrivingOptions, make_car_platform
 from reciprocity.errors import UnreachableTarget
-from reciprocity.runner import make_car_platform, search
-from reciprocity.strategies.base import Request
+from reciprocity.intents import Measure, SampleGradient, StepToward
+from reciprocity.runner import search
 
 
 @pytest.fixture(scope="module")
@@ -20,14 +20,22 @@ def small():
 
 
 @pytest.fixture(scope="module")
-def platform(small):
-    return make_car_platform(small, h=1.5, px_per_mm=0.5)
+def world(small):
+    return r.PoissonWorld(small, h=1.05)
 
 
-def test_drives_to_a_point_and_measures_the_floor(platform, small):
-    platform.reset([10.0, 10.0, 0.0], np.random.default_rng(1))
+@pytest.fixture(scope="module")
+def platform(world):
+    return make_car_platform(world, px_per_mm=0.5)
+
+
+def test_drives_to_a_point_and_measures_the_floor(platform, world):
+    platform.reset([10.0, 10.0, 0.0], world, np.random.default_rng(1))
     target = np.array([45.0, 45.0])
-    pts, vals = platform.visit(Request(target[None]))
+    obs = platform.execute(Measure(target))
+    vals = [o.value for o in obs]
+    assert len(obs) == 1 and obs[0].kind == "signal" and obs[0].dwell == platform.options.dwell
+    assert obs[0].time + obs[0].dwell == pytest.approx(platform.time, abs=0.1)
     log = platform.step_log()
     true_end = log["true_poses"][-1]
     # the car centre stops within the tolerance plus the drift of one camera period
@@ -55,25 +63,27 @@ def test_unreachable_target_is_reported(small):
         [[[36, 36], [58, 36], [58, 38], [36, 38]], [[36, 38], [38, 38], [38, 58], [36, 58]],
          [[38, 56], [58, 56], [58, 58], [38, 58]], [[56, 38], [58, 38], [58, 53], [56, 53]]],
         name="closed", source=(20.0, 20.0), strength=500.0)
-    plat = make_car_platform(closed, h=1.5, px_per_mm=0.5)
-    plat.reset([10.0, 10.0, 0.0], np.random.default_rng(0))
+    w = r.PoissonWorld(closed, h=1.05)
+    plat = make_car_platform(w, px_per_mm=0.5)
+    plat.reset([10.0, 10.0, 0.0], w, np.random.default_rng(0))
     with pytest.raises(UnreachableTarget, match="cannot be reached"):
-        plat.visit(Request(np.array([[47.0, 47.0]])))
+        plat.execute(Measure([47.0, 47.0]))
     with pytest.raises(UnreachableTarget, match="clearance"):
-        plat.visit(Request(np.array([[1.5, 30.0]])))
+        plat.execute(Measure([1.5, 30.0]))
 
 
-def test_gradient_manoeuvre_and_bang_bang_step(platform):
-    platform.reset([30.0, 12.0, 0.0], np.random.default_rng(2))
+def test_gradient_manoeuvre_and_bang_bang_step(platform, world):
+    platform.reset([30.0, 12.0, 0.0], world, np.random.default_rng(2))
     start = platform.testbed.estimate.copy()
-    pts, _ = platform.visit(Request(np.array([[25.0, 12.0], [33.0, 15.0]]), "gradient", "manoeuvre"))
-    assert pts.shape == (2, 2)
+    obs = platform.execute(SampleGradient(start[:2], 5.0))
+    pts = np.array([o.position for o in obs])
+    assert pts.shape == (2, 2) and all(o.kind == "gradient" for o in obs)
     first = platform.testbed.sensor.position(start)[0]
     r.three_point_gradient(np.vstack([first, pts]), np.zeros(3))  # not collinear
     assert pts[0][0] < first[0] - 3  # the first sample is taken after reversing
     before = platform.testbed.estimate[:2].copy()
     goal = before + np.array([0.0, 6.0])  # 90 degrees off the car's heading
-    platform.visit(Request(goal[None], "signal", "bangbang"))
+    platform.execute(StepToward(goal))
     after = platform.testbed.estimate[:2]
     assert np.hypot(*(after - goal)) < np.hypot(*(before - goal))
 
@@ -101,7 +111,7 @@ def test_gradient_stops_at_sensor_saturation(small):
     ep, strat, plat = search(small, "gradient", platform="car", seed=4, h=1.5, car={"px_per_mm": 0.5})
     s = ep.summary
     assert s["params"]["i_max"] == pytest.approx(plat.testbed.floor.mapping.u_max)
-    assert s["stop_reason"] == "signal above i_max" and s["error"] < 5.0, s
+    assert s["stop_reason"] == "converged: signal above i_max" and s["error"] < 5.0, s
     assert s["n_samples"] > s["n_measurements"]  # gradient samples were taken
 
 
@@ -110,4 +120,5 @@ def test_driving_options_are_validated():
         DrivingOptions(planner="astar")
     with pytest.raises(r.SearchError, match="replan_every"):
         DrivingOptions(replan_every=0)
-    assert CarPlatform.name == "car"
+    with pytest.raises(r.SearchError, match="cannot carry out Move"):
+        CarPlatform.execute(object.__new__(CarPlatform), r.Move([1.0, 1.0]))

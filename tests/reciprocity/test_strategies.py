@@ -9,15 +9,22 @@ from scipy.stats import binom
 import arenas
 import reciprocity as r
 from reciprocity.runner import search
-
-CONTRACT = {"strategy", "arena", "seed", "source", "estimate", "error", "n_measurements",
-            "n_samples", "path_length", "success", "region_area", "wall_time_s"}
+from reciprocity.spaces import mesh_space
 
 
 @pytest.fixture(scope="module")
 def empty():
     a = arenas.load("empty")
-    return a, r.GreenSolver(a, h=2.0), r.GreenSolver(a, h=1.4)
+    return a, r.GreenSolver(a, h=2.0), 1.4
+
+
+def episode(arena, strategy, *, source=None, start=None, seed=0, noise=12.0, truth_h=1.4, **world):
+    """One point-observer episode in the Poisson world of `arena` (truth on a finer mesh)."""
+    arena = arena.with_scenario(source=source)
+    w = r.PoissonWorld(arena, noise=noise, h=truth_h, **world)
+    platform = r.PointPlatform(mesh_space(arena.without_scenario(), 3.0))
+    start = arena.start if start is None else start
+    return r.run_episode(w, strategy, platform, starts=[start], seed=seed)
 
 
 def test_three_point_gradient_is_exact_for_planes():
@@ -33,20 +40,18 @@ def test_strategy_never_sees_the_source(empty):
     seen = []
 
     class Spy(r.ReciprocityStrategy):
-        def start(self, arena, pose, rng):
-            seen.append(arena.source)
-            super().start(arena, pose, rng)
+        def start(self, ctx):
+            seen.append((ctx.arena.source, sorted(ctx.nominal)))
+            super().start(ctx)
 
-    platform = r.PointPlatform(truth, arena.source, arena.strength, noise=12.0)
-    r.run_episode(arena, Spy(solver=solver), platform, seed=0)
-    assert seen == [None]
+    episode(arena, Spy(solver=solver))
+    assert seen == [(None, ["arena", "noise", "strength"])]
 
 
 def test_nearest_rule_follows_step_13(empty):
     arena, solver, truth = empty
     s = r.ReciprocityStrategy(solver=solver, rule="nearest", d=10.0, area_tol=1.0, max_steps=4)
-    platform = r.PointPlatform(truth, arena.source, arena.strength, noise=0.0)
-    ep = r.run_episode(arena, s, platform, seed=0)
+    ep = episode(arena, s, noise=0.0)
     pts = np.array([rec["points"][0] for rec in ep.trace])
     for k in range(1, len(pts)):
         # at least d from every earlier point, and as near as that allows (within a mesh size)
@@ -68,8 +73,7 @@ def test_reciprocity_search_statistics_on_empty(empty):
     for seed in range(12):
         src = arena.random_free_points(1, rng, clearance=8.0)[0]
         start = np.append(arena.random_free_points(1, rng, clearance=5.0)[0], 0.0)
-        platform = r.PointPlatform(truth, src, arena.strength, noise=12.0)
-        ep = r.run_episode(arena, r.ReciprocityStrategy(solver=solver), platform, start=start, seed=seed)
+        ep = episode(arena, r.ReciprocityStrategy(solver=solver), source=src, start=start, seed=seed)
         ok += ep.summary["success"]
         errors.append(ep.summary["error"])
         counts.append(ep.summary["n_measurements"])
@@ -81,14 +85,13 @@ def test_reciprocity_search_statistics_on_empty(empty):
 
 def test_gradient_ascent_reaches_the_source_without_noise(empty):
     arena, solver, truth = empty
-    s = r.GradientStrategy(solver=solver)
-    platform = r.PointPlatform(truth, arena.source, arena.strength, noise=0.0)
-    ep = r.run_episode(arena, s, platform, seed=0)
+    s = r.GradientStrategy(h=2.0)
+    ep = episode(arena, s, noise=0.0)
     S = ep.summary
-    assert S["stop_reason"].startswith("gradient puts the source") and S["success"]
-    assert S["error"] < s.stop_radius
-    paper_rule = r.run_episode(arena, r.GradientStrategy(solver=solver, i_max=300.0), platform, seed=0)
-    assert paper_rule.summary["stop_reason"] == "signal above i_max"
+    assert S["stop_reason"] == "converged: gradient puts the source within stop_radius" and S["success"]
+    assert S["converged"] and S["error"] < s.stop_radius
+    paper_rule = episode(arena, r.GradientStrategy(h=2.0, i_max=300.0), noise=0.0)
+    assert paper_rule.summary["stop_reason"] == "converged: signal above i_max"
     n_gradients = sum(rec["kind"] == "gradient" for rec in ep.trace)
     assert S["n_samples"] == S["n_measurements"] + 2 * n_gradients
     assert len(s.gradients) == n_gradients
@@ -97,7 +100,7 @@ def test_gradient_ascent_reaches_the_source_without_noise(empty):
 def test_episode_summary_and_trace_serialise(tmp_path):
     ep, strat, plat = search(arenas.load("empty"), "reciprocity", seed=2, h=3.0)
     data = json.loads(ep.to_json(tmp_path / "ep.json"))
-    assert CONTRACT <= set(data)
+    assert set(r.SUMMARY_KEYS) <= set(data)
     assert data["n_measurements"] == len(data["trace"])
     assert data["error"] == pytest.approx(np.hypot(*(np.subtract(data["estimate"], data["source"]))))
     again, _, _ = search(arenas.load("empty"), "reciprocity", seed=2, h=3.0)
@@ -106,8 +109,7 @@ def test_episode_summary_and_trace_serialise(tmp_path):
 
 def test_point_platform_path_goes_around_obstacles():
     arena = arenas.load("deep_u")
-    solver = r.GreenSolver(arena, h=3.0)
-    p = r.PointPlatform(solver, arena.source, arena.strength)
+    p = r.PointPlatform(mesh_space(arena.without_scenario(), 3.0))
     straight = np.hypot(*(arena.source - arena.start[:2]))
     assert p.distance(arena.start[:2], arena.source) > straight + 20
 
@@ -134,7 +136,8 @@ def test_bad_gradient_parameters():
 
 def _strategy_with_belief(solver, arena, belief, **kw):
     s = r.ReciprocityStrategy(solver=solver, **kw)
-    s.start(arena.without_scenario(), np.array([20.0, 20.0, 0.0]), np.random.default_rng(0))
+    s.start(r.SearchContext("poisson", dict(arena=arena.without_scenario(), strength=arena.strength),
+                            np.array([[20.0, 20.0, 0.0]]), np.random.default_rng(0)))
     s.imaging.add((20.0, 20.0), 0.0)
     s.imaging._cache["P"] = belief(solver.nodes)
     return s
@@ -157,3 +160,65 @@ def test_reach_rule_goes_where_the_mass_is(empty):
                               rule="reach")
     nxt = s.next_point()
     assert nxt[0] > 70 or nxt[1] > 70
+
+
+def test_giving_up_near_the_source_is_not_a_success(empty):
+    """A run whose estimate lands near the source but that stops on its step cap (or for
+    want of targets) has not converged, so it is not a success."""
+    arena, solver, _ = empty
+    ep = episode(arena, r.ReciprocityStrategy(solver=solver, max_steps=2, area_tol=1.0), noise=0.0)
+    S = ep.summary
+    assert S["stop"] == "step cap" and not S["converged"] and not S["success"]
+    near = r.RandomWalkStrategy(n_steps=3)
+    S = episode(arena, near, start=[88.0, 60.0, 0.0], noise=0.0).summary
+    assert S["error"] < 10 and not S["converged"] and not S["success"]
+
+
+def test_saturated_readings_are_censored(empty):
+    """A saturated reading says "at least I": every node whose prediction exceeds I keeps
+    p = 1; an exact reading of the same value would rule them out."""
+    arena, solver, _ = empty
+    z = np.array([40.0, 40.0])
+    exact, censored = (r.ImagingMap(solver, 12.0, strength=850.0) for _ in range(2))
+    exact.add(z, 150.0)
+    censored.update(r.Observation(z, 150.0, saturated=True))
+    above = censored.model()[:, 0] > 150.0 + 3 * 12.0
+    assert above.sum() > 10
+    assert np.all(censored.p_maps()[above, 0] == 1.0)
+    assert np.all(exact.p_maps()[above, 0] < np.exp(-9))
+
+
+def test_model_mismatch_changes_the_truth_not_the_strategy(empty):
+    """A 30 % stronger true source: the strategy is told the nominal strength; the world
+    reads 1.3 times the nominal field (noise-free)."""
+    arena, solver, _ = empty
+    told = []
+
+    class Spy(r.RandomWalkStrategy):
+        def start(self, ctx):
+            told.append(ctx.nominal["strength"])
+            super().start(ctx)
+
+    a = episode(arena, Spy(n_steps=3), noise=0.0)
+    b = episode(arena, Spy(n_steps=3), noise=0.0, mismatch=r.Mismatch(strength_factor=1.3))
+    assert told == [arena.strength, arena.strength]
+    ra = np.concatenate([rec["readings"] for rec in a.trace])
+    rb = np.concatenate([rec["readings"] for rec in b.trace])
+    assert np.allclose(rb, 1.3 * ra, rtol=1e-9)
+    assert b.summary["mismatch"]["strength_factor"] == 1.3
+
+
+def test_shifted_walls_move_the_truth(empty):
+    arena = arenas.load("paper")
+    w = r.PoissonWorld(arena, mismatch=r.Mismatch(wall_shift=1.0), h=3.0)
+    # a point 0.5 cm off an obstacle edge is free for the strategy, inside the true wall
+    p = np.array([[40.0, 70.0 + 0.0]]) + np.array([[-0.5, 0.0]])
+    assert arena.contains(p)[0] and not w.contains(p)[0]
+    assert w.true_arena.area < arena.area
+
+
+def test_trace_records_refuse_colliding_keys(empty):
+    rec = r.StepRecord(1, 0, "measure", "signal", np.zeros(2), [], np.zeros(3), np.zeros((1, 2)), 0.0,
+                       0.0, belief={"next": [1, 2]}, platform={"next": [3, 4]})
+    with pytest.raises(r.SearchError, match="clash"):
+        rec.as_dict()
