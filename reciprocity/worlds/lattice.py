@@ -1,0 +1,192 @@
+"""The random-lattice world (truth) of Ristic, Skvortsov & Walker (2014).
+
+A tracer source sits at a node of a circular square lattice from which a fraction `p`
+of the links was removed at random. The mean concentration is that of the tracer's
+random walk on the incomplete lattice as an absorbing Markov chain (Sec. 2.2):
+``λ_j = A0 · F_ij`` with ``F = (I − Q)^−1`` (eq. (3)), computed here from one sparse LU
+solve for the source's row, never a dense inverse. Sensor 1 counts Poisson particles of
+mean λ at the searcher's node (eq. (4)); sensor 2 reports the primary and secondary links
+around it through the detection matrices of eq. (8).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse import csc_matrix, diags
+from scipy.sparse.csgraph import connected_components
+from scipy.sparse.linalg import splu
+
+from ..errors import SearchError
+from ..spaces.lattice import LatticeSpace
+from .base import Reading, World
+
+__all__ = ["LatticeWorld", "draw_links", "green_row", "PERCOLATION_THRESHOLD", "MAX_REDRAWS"]
+
+#: Bond-percolation threshold of the square lattice (p_c = 1/2).
+PERCOLATION_THRESHOLD = 0.5
+#: Draws of the missing links tried before giving up on a connected lattice.
+MAX_REDRAWS = 20000
+
+
+def _clusters(space: LatticeSpace) -> np.ndarray:
+    return connected_components(space.adjacency, directed=False)[1]
+
+
+def draw_links(space: LatticeSpace, p: float, rng: np.random.Generator, *, connectivity: str = "all",
+               keep: tuple = ()) -> tuple[np.ndarray, int]:
+    """Remove ``round(p·L)`` links at random until the free region is connected.
+
+    Parameters
+    ----------
+    space : LatticeSpace
+        The complete lattice.
+    p : float
+        Fraction of links removed (below the percolation threshold 1/2).
+    rng : numpy.random.Generator
+    connectivity : {"all", "nodes"}
+        ``"all"``: every transient node lies in one cluster (the paper's Fig. 2: "all
+        nodes in the incomplete lattice are connected"), redrawn until so. ``"nodes"``:
+        only the nodes in `keep` must share a cluster (large lattices, where isolated
+        nodes are certain).
+    keep : tuple of int
+        Node indices that must lie in one cluster (source and start).
+
+    Returns
+    -------
+    present : ndarray of bool, shape (L,)
+    draws : int
+        Number of draws it took.
+    """
+    n_links = len(space.links)
+    n_cut = int(round(p * n_links))
+    keep = np.asarray(keep, dtype=np.int64)
+    for draw in range(1, MAX_REDRAWS + 1):
+        present = np.ones(n_links, dtype=bool)
+        present[rng.choice(n_links, n_cut, replace=False)] = False
+        lab = _clusters(space.with_links(present))
+        ok = keep.size == 0 or np.all(lab[keep] == lab[keep[0]])
+        if connectivity == "all":
+            t = lab[space.transient]
+            ok = ok and np.all(t == t[0]) and (keep.size == 0 or lab[keep[0]] == t[0])
+        if ok:
+            return present, draw
+    raise SearchError(f"no connected lattice in {MAX_REDRAWS} draws with p = {p:g}; lower p "
+                      "or use connectivity: nodes")
+
+
+def green_row(space: LatticeSpace, source: int) -> np.ndarray:
+    """Row `source` of the fundamental matrix ``F = (I − Q)^−1`` (eq. (3)) on all nodes.
+
+    ``F_ij`` is the expected number of visits to node j of a walker started at node i
+    before absorption on the boundary ring; transitions go along existing links with
+    probability ``1/m`` (m links at the node). One sparse LU solve of
+    ``(I − Q)^T x = e_i`` on the transient nodes of the source's cluster (a cluster
+    that never reaches the boundary would make ``I − Q`` singular); absorbing and
+    unreachable nodes get 0.
+
+    Parameters
+    ----------
+    space : LatticeSpace
+        The lattice with its missing links.
+    source : int
+        Node index of the source (a transient node).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+    """
+    lab = _clusters(space)
+    if not np.any(~space.transient & (lab == lab[source])):
+        raise SearchError("the source's cluster of links never reaches the boundary ring; redraw the lattice")
+    t = np.flatnonzero(space.transient & (lab == lab[source]))   # closed clusters elsewhere: F = 0
+    adj = space.adjacency
+    deg = np.asarray(adj.sum(axis=1)).ravel()
+    inv = np.divide(1.0, deg, out=np.zeros_like(deg), where=deg > 0)
+    q = (diags(inv) @ adj)[t][:, t]                        # Q: transient -> transient
+    a = csc_matrix(diags(np.ones(len(t))) - q).T.tocsc()   # (I − Q)^T
+    pos = -np.ones(len(space.points), dtype=np.int64)
+    pos[t] = np.arange(len(t))
+    if pos[source] < 0:
+        raise SearchError("the source must be a transient node (r <= R0)")
+    e = np.zeros(len(t))
+    e[pos[source]] = 1.0
+    out = np.zeros(len(space.points))
+    out[t] = splu(a).solve(e)
+    return out
+
+
+class LatticeWorld(World):
+    """Truth of the lattice search: a source on a lattice with missing links.
+
+    Parameters
+    ----------
+    space : LatticeSpace
+        The *true* lattice (its missing links).
+    source : array_like, shape (2,)
+        Source node (lattice units).
+    strength : float
+        Release rate A0 (particles per step at unit F).
+    primary, secondary : (float, float)
+        ``(p_d, p_fa)`` of the link detector for the adjacent and the next links (eq. (8)).
+    p : float, optional
+        Fraction of links removed (nominal; for the record).
+    slip : float
+        p_e of the searcher's motion (eq. (45)); the platform's and the strategy's.
+    draws : int
+        Draws it took to get a connected lattice (reported by :meth:`describe`).
+    """
+
+    kind = "lattice"
+    found_radius = 0.5
+
+    def __init__(self, space: LatticeSpace, source, strength: float, *, primary=(1.0, 0.0),
+                 secondary=(0.8, 0.1), p: float | None = None, slip: float = 0.04, draws: int = 1):
+        self.space = space
+        self.source = np.asarray(source, dtype=float).reshape(2)
+        self.strength = float(strength)
+        self.primary, self.secondary = tuple(map(float, primary)), tuple(map(float, secondary))
+        self.p, self.slip, self.draws = p, float(slip), int(draws)
+        self.source_node = int(space.index_of(self.source)[0])
+        self.lam = self.strength * green_row(space, self.source_node)
+        self._second = space.second_link_of
+
+    def contains(self, points) -> np.ndarray:
+        return self.space.contains(points)
+
+    def mean(self, position) -> float:
+        """Mean count λ at `position` (eq. (4)): ``A0 · F_ij``."""
+        return float(self.lam[self.space.index_of(position)[0]])
+
+    def links_seen(self, node: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+        """What sensor 2 reports at `node`: primary and secondary link readings per
+        direction (E, W, N, S), 1 present, 0 absent, -1 not observable (the secondary
+        link behind a missing primary link)."""
+        sp = self.space
+        lid = sp.link_of[node]
+        m1 = (lid >= 0) & sp.present[np.maximum(lid, 0)]
+        sid = self._second[node]
+        m2 = (sid >= 0) & sp.present[np.maximum(sid, 0)]
+        u = rng.random(8)
+        pd1, pf1 = self.primary
+        pd2, pf2 = self.secondary
+        z1 = np.where(m1, u[:4] < pd1, u[:4] < pf1).astype(int)
+        z2 = np.where(m2, u[4:] < pd2, u[4:] < pf2).astype(int)
+        z2[~m1] = -1
+        return z1, z2
+
+    def read(self, position, *, time: float, dwell: float, rng: np.random.Generator) -> Reading:
+        node = int(self.space.index_of(position)[0])
+        if node < 0:
+            raise SearchError(f"({position[0]:g}, {position[1]:g}) is not a lattice node")
+        n = int(rng.poisson(self.lam[node] * max(dwell, 0.0)))
+        z1, z2 = self.links_seen(node, rng)
+        return Reading(float(n), False, "hits", {"primary": z1.tolist(), "secondary": z2.tolist()})
+
+    def nominal(self) -> dict:
+        full = LatticeSpace(self.space.radius)
+        return dict(space=full, radius=self.space.radius, primary=self.primary,
+                    secondary=self.secondary, p=self.p, slip=self.slip)
+
+    def describe(self) -> dict:
+        return dict(strength=self.strength, missing_links=int((~self.space.present).sum()),
+                    lattice_draws=self.draws)

@@ -1,0 +1,133 @@
+"""The ``lattice`` world kind of scenario files: parameters, world, platforms."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse.csgraph import connected_components
+
+from ..errors import SearchError
+from ..scenarios import WorldKind, register_world
+from ..spaces.lattice import LatticeSpace
+from .lattice import PERCOLATION_THRESHOLD, LatticeWorld, draw_links
+
+__all__ = ["LATTICE", "LATTICE_KEYS", "MIN_RADIUS"]
+
+#: Parameters of a ``lattice`` scenario.
+LATTICE_KEYS = ("radius", "p", "source", "strength", "entry", "slip", "primary", "secondary",
+                "connectivity")
+#: Smallest lattice radius accepted.
+MIN_RADIUS = 2
+
+
+def _number(params, key, default, lo, hi, what, *, lo_open=False, hi_open=False):
+    v = params.get(key, default)
+    bad = isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v)
+    if not bad:
+        bad = (v <= lo if lo_open else v < lo) or (v >= hi if hi_open else v > hi)
+    if bad:
+        raise SearchError(f"{key} must be {what}; got {v!r}")
+    return float(v)
+
+
+def _node(space: LatticeSpace, value, key: str, *, transient: bool) -> list:
+    arr = np.asarray(value, dtype=float) if value is not None else None
+    if arr is None or arr.shape != (2,) or not np.all(np.isfinite(arr)):
+        raise SearchError(f"{key} must be a lattice node [x, y] (integers); got {value!r}")
+    i = int(space.index_of(arr)[0])
+    ring = "x² + y² <= R0²" if transient else "x² + y² < (R0 + 1)²"
+    if i < 0 or (transient and not space.transient[i]):
+        raise SearchError(f"{key} {arr.tolist()} is not a node of the lattice: integers with {ring}, "
+                          f"R0 = {space.radius:g}")
+    return arr.tolist()
+
+
+def _pair(params, key, default) -> tuple:
+    v = params.get(key, default)
+    try:
+        pd, pfa = (float(x) for x in v)
+    except (TypeError, ValueError):
+        raise SearchError(f"{key} must be [p_d, p_fa], two probabilities; got {v!r}") from None
+    if not (0 <= pd <= 1 and 0 <= pfa <= 1):
+        raise SearchError(f"{key} must be [p_d, p_fa], two probabilities in [0, 1]; got {v!r}")
+    return pd, pfa
+
+
+def _check(params: dict) -> dict:
+    unknown = set(params) - set(LATTICE_KEYS)
+    if unknown:
+        raise SearchError(f"unknown lattice world parameter(s) {', '.join(sorted(unknown))}; "
+                          f"choose from {', '.join(LATTICE_KEYS)}")
+    out = dict(params)
+    out["radius"] = _number(params, "radius", 9, MIN_RADIUS, 1e3, f"a lattice radius R0 in [{MIN_RADIUS}, 1000]")
+    out["p"] = _number(params, "p", 0.35, 0.0, PERCOLATION_THRESHOLD,
+                       "a fraction of missing links in [0, 0.5) (below the percolation threshold 1/2)",
+                       hi_open=True)
+    out["strength"] = _number(params, "strength", 12.0, 0.0, np.inf, "a positive release rate A0",
+                              lo_open=True, hi_open=True)
+    out["slip"] = _number(params, "slip", 0.04, 0.0, 1.0, "a probability p_e in [0, 1)", hi_open=True)
+    space = LatticeSpace(out["radius"])
+    out["source"] = _node(space, params.get("source"), "source", transient=True)
+    if params.get("entry") is not None:
+        out["entry"] = _node(space, params["entry"], "entry", transient=False)
+    out["primary"] = _pair(params, "primary", (1.0, 0.0))
+    out["secondary"] = _pair(params, "secondary", (0.8, 0.1))
+    conn = params.get("connectivity", "all")
+    if conn not in ("all", "nodes"):
+        raise SearchError(f"connectivity must be 'all' (every node inside R0 connected) or 'nodes' "
+                          f"(source and entry connected); got {conn!r}")
+    out["connectivity"] = conn
+    return out
+
+
+def _build(params: dict, rng: np.random.Generator) -> LatticeWorld:
+    full = LatticeSpace(params["radius"])
+    keep = [int(full.index_of(params["source"])[0])]
+    if params.get("entry") is not None:
+        keep.append(int(full.index_of(params["entry"])[0]))
+    present, draws = draw_links(full, params["p"], rng, connectivity=params["connectivity"], keep=tuple(keep))
+    return LatticeWorld(full.with_links(present), params["source"], params["strength"],
+                        primary=params["primary"], secondary=params["secondary"], p=params["p"],
+                        slip=params["slip"], draws=draws)
+
+
+def _check_start(world: LatticeWorld, scenario) -> None:
+    starts = scenario.starts if scenario is not None and scenario.starts is not None else None
+    if starts is None:
+        return
+    lab = connected_components(world.space.adjacency, directed=False)[1]
+    for s in starts:
+        i = int(world.space.index_of(s[:2])[0])
+        if i < 0:
+            raise SearchError(f"start ({s[0]:g}, {s[1]:g}) is not a lattice node (integers, "
+                              f"x² + y² < (R0 + 1)², R0 = {world.space.radius:g})")
+        if lab[i] != lab[world.source_node]:
+            raise SearchError(f"start ({s[0]:g}, {s[1]:g}) is cut off from the source in this lattice; "
+                              "give the world the same entry: [x, y] so the draw keeps them connected")
+
+
+def _lattice(world: LatticeWorld, scenario, options: dict):
+    from ..lattice_platform import LatticePlatform
+    if options:
+        raise SearchError(f"unknown lattice-platform option(s) {', '.join(sorted(options))}; "
+                          "it has none (p_e is the world's slip)")
+    _check_start(world, scenario)
+    return LatticePlatform(world.space, slip=world.slip)
+
+
+def _walker(world: LatticeWorld, scenario, options: dict):
+    from ..platforms import WalkerPlatform
+    if options:
+        raise SearchError(f"unknown walker option(s) {', '.join(sorted(options))}; it has none here")
+    _check_start(world, scenario)
+    return WalkerPlatform(world.space, slip=world.slip)
+
+
+def _default_start(world: LatticeWorld, rng: np.random.Generator) -> np.ndarray:
+    lab = connected_components(world.space.adjacency, directed=False)[1]
+    ring = np.flatnonzero(~world.space.transient & (lab == lab[world.source_node]))
+    p = world.space.points[ring[rng.integers(ring.size)]]
+    return np.array([p[0], p[1], 0.0])
+
+
+LATTICE = register_world(WorldKind("lattice", _check, _build, {"lattice": _lattice, "walker": _walker},
+                                   _default_start))
