@@ -41,6 +41,9 @@ def _replans(trace) -> np.ndarray:
 
 
 def _triangulation(imaging: ImagingMap) -> Triangulation:
+    """The solver's own triangulation (one per mesh); P2 maps need the split one."""
+    if imaging.solver.order == 1:
+        return imaging.solver.triangulation
     return Triangulation(imaging.nodes[:, 0], imaging.nodes[:, 1], imaging.triangles)
 
 

@@ -15,9 +15,12 @@ def load(name):
     return mod
 
 
-def test_imaging_figure(tmp_path):
+def test_imaging_figure(tmp_path, pixels_near):
     assert load("imaging_figure").main(tmp_path) < 5.0
-    assert (tmp_path / "imaging_steps.png").stat().st_size > 20_000
+    png = tmp_path / "imaging_steps.png"
+    assert pixels_near(png, (0, 255, 0), 60) > 20      # the lime star of the true source
+    assert pixels_near(png, (255, 0, 255), 60) > 10    # the magenta estimate
+    assert pixels_near(png, (255, 0, 0), 60) > 20      # red rings of the measurements
 
 
 def test_custom_arena(tmp_path):

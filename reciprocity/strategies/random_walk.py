@@ -21,7 +21,9 @@ class RandomWalkStrategy(Strategy):
     On worlds with a space of places (``nominal["space"]``: a lattice, a grid) each step
     is a :class:`~reciprocity.intents.Move` to a random neighbour; on arena worlds a
     :class:`~reciprocity.intents.Measure` at a random mesh node within `step` cm that
-    keeps `clearance` from the walls.
+    keeps `clearance` from the walls; on open plane worlds (``nominal["bounds"]`` and
+    ``nominal["max_step"]``) a :class:`~reciprocity.intents.Move` of one step in a random
+    direction that stays within the bounds.
 
     Parameters
     ----------
@@ -52,7 +54,10 @@ class RandomWalkStrategy(Strategy):
         self._reset_state()
         self.rng = ctx.rng
         self.space = ctx.nominal.get("space")
-        if self.space is None:
+        self.bounds = ctx.nominal.get("bounds") if ctx.arena is None else None
+        if self.space is None and self.bounds is not None:
+            self.plane_step = float(ctx.nominal.get("max_step", self.step))
+        elif self.space is None:
             geometry = ctx.arena.without_scenario()
             self.mesh = mesh_space(geometry, max(1.0, self.step / 4))
             self._ok = self.mesh.reachable_from(ctx.start[:2], self.clearance)
@@ -64,6 +69,14 @@ class RandomWalkStrategy(Strategy):
         if self.space is not None:
             options = self.space.step_candidates(position)
             return Move(options[self.rng.integers(len(options))]) if len(options) else None
+        if self.bounds is not None:
+            (x0, x1), (y0, y1) = self.bounds
+            for _ in range(32):
+                a = self.rng.uniform(0, 2 * np.pi)
+                p = position + self.plane_step * np.array([np.cos(a), np.sin(a)])
+                if x0 <= p[0] <= x1 and y0 <= p[1] <= y1:
+                    return Move(p)
+            return None
         near = self._ok & self.mesh.around(position, self.step)
         idx = np.flatnonzero(near if near.any() else self._ok)
         return Measure(self.mesh.points[idx[self.rng.integers(idx.size)]]) if idx.size else None

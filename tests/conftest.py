@@ -1,0 +1,20 @@
+"""Fixtures shared by the whole suite."""
+
+import cv2
+import numpy as np
+import pytest
+
+
+def _pixels_near(path, rgb, tol: int = 40) -> int:
+    """Number of pixels of the PNG at `path` within `tol` (per channel) of colour `rgb`."""
+    img = cv2.imread(str(path), cv2.IMREAD_COLOR)
+    assert img is not None, f"{path} is not a readable image"
+    bgr = np.array(rgb[::-1], dtype=int)
+    return int(np.all(np.abs(img.astype(int) - bgr) <= tol, axis=2).sum())
+
+
+@pytest.fixture
+def pixels_near():
+    """``pixels_near(path, (r, g, b), tol=40)``: how much of a figure shows a colour, so a
+    test asserts what a figure shows (a marker, a path), not that a file exists."""
+    return _pixels_near
