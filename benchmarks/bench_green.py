@@ -31,17 +31,21 @@ def best_of(fn, repeat: int) -> float:
 def step_time(solver: r.GreenSolver, arena, repeat: int = 5) -> float:
     """Mean time of Algorithm-1 steps after a few warm-up measurements."""
     s = r.ReciprocityStrategy(solver=solver)
-    s.start(arena.without_scenario().with_scenario(strength=arena.strength),
-            np.append(arena.start[:2], 0.0), np.random.default_rng(0))
+    s.start(r.SearchContext("poisson", dict(arena=arena.without_scenario(), strength=arena.strength),
+                            np.array([[*arena.start[:2], 0.0]]), np.random.default_rng(0)))
     u = solver.field(arena.source, arena.strength)
     rng = np.random.default_rng(1)
     pts = arena.random_free_points(2 + repeat, rng, clearance=5.0)
-    req = r.Request(pts[:1])
+
+    def observe(p, noise):
+        obs = r.Observation(p, u(p[None])[0] + noise * rng.standard_normal())
+        s.observe([obs], r.Measure(p))
+
     for p in pts[:2]:
-        s.observe(req, p[None], np.array([u(p[None])[0]]))
+        observe(p, 0.0)
     t = time.perf_counter()
     for p in pts[2:]:
-        s.observe(req, p[None], np.array([u(p[None])[0] + 12 * rng.standard_normal()]))
+        observe(p, 12.0)
     return (time.perf_counter() - t) / repeat
 
 
