@@ -20,5 +20,7 @@ def register(cls: type[Strategy]) -> type[Strategy]:
     return cls
 
 
+from . import infotaxis  # noqa: E402,F401  (registers the plume strategies)
+
 __all__ = ["GradientStrategy", "MAX_REJECTIONS", "RandomWalkStrategy", "ReciprocityStrategy",
            "STRATEGIES", "SearchContext", "Status", "Strategy", "register", "three_point_gradient"]

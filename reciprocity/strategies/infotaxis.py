@@ -1,0 +1,448 @@
+"""Infotaxis-type strategies for plume worlds, over a particle belief.
+
+One decision scores every admissible move ``v`` with the joint table ``w'_i p(z | i, v)``
+of :meth:`ParticleBelief.outcomes` (outcomes × moves × particles, one vectorised pass)
+and takes the lowest score (the first on ties, as otto does):
+
+``infotaxis``
+    expected entropy change, eq. (3) of Song et al. (2019, papers/002), after Vergassola
+    et al. (2007): ``P(r_v)(0 − S) + (1 − P(r_v)) Σ_z ρ_z (S_z − S)``, ``P(r_v)`` the
+    posterior mass within the found radius of ``r_v``.
+``free-energy``
+    expected free energy, eqs. (5), (8)–(10) of papers/002:
+    ``Σ_z ρ_z [Σ_i w_i^z |r_v − r0_i|^γ + α tr(Σ^z)^β S_z]``, each term on the posterior
+    after outcome ``z``.
+``mapless-infotaxis``
+    Masson (2013) as papers/002 uses it: the first term of eq. (3) on an extended
+    domain (mass within `extent` of ``r_v``) and a constant temperature ``T`` on the
+    explorative term: ``−P_ext(r_v) S + T (1 − P_ext(r_v)) Σ_z ρ_z (S_z − S)``. papers/002
+    gives no formula for it; this is our reading of its description.
+``entrotaxis``
+    Hutchinson et al. (2018): the move whose next reading is the most uncertain,
+    ``max_v −Σ_z ρ_z ln ρ_z``.
+``space-aware-infotaxis``
+    otto (Loisy & Eloy 2022): ``(1 − p_end) Σ_z ρ_z log2(D_z + 2^(H_z − 1) − 1/2)`` with
+    ``D_z`` the posterior mean Manhattan distance (cells) and ``H_z`` the entropy in bits
+    (the log only where its argument is positive).
+``voi``
+    Hajieghrary, Mox & Hsieh (2017, papers/001): N searchers, one belief each, infotaxis
+    moves; each reading is offered to the others (``share="all"``) or only to those for
+    which its value of information passes a threshold (``share="voi"``, Section 3.3.2).
+
+Moves depend on the world's motion (``nominal["motion"]``): ``turn`` (a unit step after
+a heading change among ``n_turns`` values within ``±max_turn`` degrees, papers/002
+Section 4: V = {1}, Ω = {−3..3}°, T = {1}), ``grid`` (4 or 8 cell moves, otto) or
+``reach`` (8 compass moves of ``step`` per axis, papers/001).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..beliefs.particles import ParticleBelief, grid_particles
+from ..errors import SearchError
+from ..intents import Move, Stay
+from ..observations import Observation
+from . import register
+from .base import SearchContext, Status, Strategy
+
+__all__ = ["PlumeSearch", "Infotaxis", "FreeEnergyInfotaxis", "MaplessInfotaxis", "Entrotaxis",
+           "SpaceAwareInfotaxis", "VoIInfotaxis", "candidate_moves", "make_belief", "posterior_entropies"]
+
+#: otto's tie tolerance between scores.
+TIE = 1e-10
+#: Steps between stored particle snapshots (figures).
+SNAPSHOT_EVERY = 10
+
+
+def _positive(name, v, *, integer=False):
+    ok = not isinstance(v, bool) and isinstance(v, (int, float)) and np.isfinite(v) and v > 0
+    if integer:
+        ok = ok and float(v).is_integer()
+    if not ok:
+        raise SearchError(f"{name} must be a positive {'whole ' if integer else ''}number; got {v!r}")
+    return int(v) if integer else float(v)
+
+
+def candidate_moves(nominal: dict, position, heading: float):
+    """Admissible next places and headings from `position`, in the order moves are tried.
+
+    Returns
+    -------
+    points : ndarray, shape (m, 2)
+    headings : ndarray, shape (m,)
+        Heading (rad) after each move.
+    """
+    p = np.asarray(position, dtype=float)
+    step, motion = float(nominal["step"]), nominal["motion"]
+    if motion == "turn":
+        turns = np.radians(np.linspace(-nominal["max_turn"], nominal["max_turn"], nominal["n_turns"]))
+        hd = heading + turns
+        pts = p + step * np.column_stack([np.cos(hd), np.sin(hd)])
+    else:
+        # otto's action order: -x, +x, -y, +y (then the diagonals)
+        dirs = [(-1, 0), (1, 0), (0, -1), (0, 1)]
+        if motion == "reach" or nominal.get("moves", 4) == 8:
+            dirs += [(-1, -1), (1, -1), (-1, 1), (1, 1)]
+        d = np.array(dirs, dtype=float)
+        pts = p + step * d
+        hd = np.arctan2(d[:, 1], d[:, 0])
+    (x0, x1), (y0, y1) = nominal["bounds"]
+    inside = (pts[:, 0] >= x0) & (pts[:, 0] <= x1) & (pts[:, 1] >= y0) & (pts[:, 1] <= y1)
+    return pts[inside], hd[inside]
+
+
+def make_belief(nominal: dict, rng: np.random.Generator, *, particles: int, resample_below: float | None,
+                mcmc_steps: int) -> ParticleBelief:
+    """The belief a strategy starts with: particles on a regular grid over the area
+    (papers/002, Section 4.1), or on every cell centre without resampling on grid worlds
+    (otto's exact grid posterior)."""
+    if nominal.get("grid") is not None:
+        from ..spaces import GridSpace
+        pts = GridSpace(nominal["bounds"], nominal["grid"]).points
+        resample_below = None
+    else:
+        pts = grid_particles(nominal["bounds"], particles)
+    return ParticleBelief(nominal["plume"], pts, nominal["bounds"], rng, dt=nominal["dt"],
+                          resample_below=resample_below, mcmc_steps=mcmc_steps,
+                          found_radius=nominal["found_radius"], max_hits=nominal.get("max_hits"))
+
+
+def posterior_entropies(joint: np.ndarray):
+    """Outcome probabilities and posterior entropies (nats) of a joint table.
+
+    Parameters
+    ----------
+    joint : ndarray, shape (K+1, m, M)
+
+    Returns
+    -------
+    rho : ndarray, shape (K+1, m)
+        ``P(z | v)``, renormalised over the outcomes kept.
+    H : ndarray, shape (K+1, m)
+        Entropy of the posterior after outcome ``z`` at move ``v``.
+    P : ndarray, shape (K+1, m)
+        Unnormalised outcome masses (the posterior's denominators).
+    """
+    P = joint.sum(axis=2)
+    Ps = np.maximum(P, 1e-300)
+    jl = joint * np.log(np.where(joint > 0, joint, 1.0))
+    H = np.log(Ps) - jl.sum(axis=2) / Ps
+    rho = P / np.maximum(P.sum(axis=0, keepdims=True), 1e-300)
+    return rho, np.where(P > 0, H, 0.0), P
+
+
+class PlumeSearch(Strategy):
+    """Base of the single-observer plume strategies: a particle belief and one-step
+    scoring of the admissible moves (lower is better).
+
+    Parameters
+    ----------
+    particles : int
+        Number of particles M (papers/002: 600); ignored on grid worlds (one per cell).
+    resample_below : float
+        Resample when the effective size falls below this fraction of M (1/3).
+    mcmc_steps : int
+        Metropolis-Hastings moves after each resampling.
+    eta : float
+        Tail probability left out of the sums over counts (papers/002, Section 3.3).
+    """
+
+    worlds = ("plume",)
+    agents = 1
+
+    def __init__(self, *, particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1,
+                 eta: float = 1e-3):
+        self.n_particles = _positive("particles", particles, integer=True)
+        self.resample_below = _positive("resample_below", resample_below)
+        if self.resample_below >= 1:
+            raise SearchError(f"resample_below must lie in (0, 1); got {resample_below!r}")
+        self.mcmc_steps = _positive("mcmc_steps", mcmc_steps, integer=True)
+        self.eta = _positive("eta", eta)
+        if self.eta >= 0.5:
+            raise SearchError(f"eta must lie in (0, 0.5); got {eta!r}")
+        super().__init__()
+
+    def params(self) -> dict:
+        return dict(particles=self.n_particles, resample_below=self.resample_below,
+                    mcmc_steps=self.mcmc_steps, eta=self.eta)
+
+    # -- set-up ----------------------------------------------------------------------
+    def start(self, ctx: SearchContext) -> None:
+        self._reset_state()
+        if ctx.world not in self.worlds:
+            raise SearchError(f"strategy {self.name!r} applies to plume worlds; got {ctx.world!r}")
+        self.nominal = ctx.nominal
+        self.ctx = ctx
+        self.belief = make_belief(ctx.nominal, ctx.rng, particles=self.n_particles,
+                                  resample_below=self.resample_below, mcmc_steps=self.mcmc_steps)
+        self.pos = ctx.start[:2].astype(float).copy()
+        self.heading = float(ctx.start[2])
+        self.snapshots: list[tuple[int, np.ndarray, np.ndarray]] = []
+        self._next_heading = self.heading
+        h0 = ctx.nominal.get("initial_hit")
+        if h0 is not None:
+            # otto: the search starts after a forced first hit where the observer stands
+            self.belief.update(Observation(self.pos, float(h0), 0.0, ctx.nominal["dt"], "hits"))
+        self._record()
+
+    # -- deciding ----------------------------------------------------------------------
+    def scores(self, cands: np.ndarray) -> np.ndarray:
+        """Score of each candidate place (lower is better), shape (m,)."""
+        raise NotImplementedError
+
+    def decide(self, cands: np.ndarray) -> int:
+        """Index of the chosen candidate: the first whose score is within :data:`TIE` of the least."""
+        s = self.scores(cands)
+        return int(np.flatnonzero(s <= np.min(s) + TIE)[0])
+
+    def propose(self):
+        if self.done:
+            return None
+        cands, hds = candidate_moves(self.nominal, self.pos, self.heading)
+        if len(cands) == 0:
+            # at the edge facing out: turn toward the middle of the area where it stands
+            (x0, x1), (y0, y1) = self.nominal["bounds"]
+            want = np.arctan2((y0 + y1) / 2 - self.pos[1], (x0 + x1) / 2 - self.pos[0])
+            diff = (want - self.heading + np.pi) % (2 * np.pi) - np.pi
+            self._next_heading = self.heading + np.sign(diff) * np.radians(self.nominal["max_turn"])
+            return Stay(self.pos)
+        k = self.decide(cands)
+        self._next_heading = float(hds[k])
+        return Move(cands[k])
+
+    def observe(self, observations, intent, agent: int = 0) -> None:
+        for obs in observations:
+            self.belief.update(obs)
+            self.n_measurements += 1
+            self.n_samples += 1
+            self.pos = np.asarray(obs.position, dtype=float).copy()
+        self.heading = self._next_heading
+        self._record()
+
+    # -- records -----------------------------------------------------------------------
+    def free_energy(self, alpha: float = 0.01, beta: float = 1.4, gamma: float = 3.0) -> float:
+        """Free energy eq. (8) of papers/002 at the current place and belief."""
+        w, x = self.belief.weights(), self.belief.support()
+        d = np.hypot(*(x - self.pos).T)
+        return float(w @ d ** gamma + alpha * self.belief.spread() ** beta * self.belief.entropy())
+
+    def _record(self) -> None:
+        b = self.belief
+        w, x = b.weights(), b.support()
+        est = w @ x
+        cov = np.cov(x.T, aweights=w) if np.count_nonzero(w) > 1 else np.zeros((2, 2))
+        area = float(np.pi * 5.991 * np.sqrt(max(np.linalg.det(cov), 0.0)))
+        self.status = Status(est, area, extra=dict(entropy=b.entropy(), spread=b.spread(),
+                                                   free_energy=self.free_energy(), n_eff=b.n_eff()))
+        if self.n_measurements % SNAPSHOT_EVERY == 0:
+            self.snapshots.append((self.n_measurements, x.copy(), w.copy()))
+
+
+@register
+class Infotaxis(PlumeSearch):
+    """Infotaxis (Vergassola et al. 2007; eq. (3) of papers/002) on a particle belief."""
+
+    name = "infotaxis"
+
+    def scores(self, cands):
+        joint, p_found, _ = self.belief.outcomes(cands, eta=self.eta)
+        rho, H, _ = posterior_entropies(joint)
+        S = self.belief.entropy()
+        return p_found * (0.0 - S) + (1.0 - p_found) * np.sum(rho * (H - S), axis=0)
+
+
+@register
+class FreeEnergyInfotaxis(PlumeSearch):
+    """Free-energy infotaxis (Song, He & Lei 2019, eqs. (5), (8)–(10)).
+
+    Parameters
+    ----------
+    alpha, beta : float
+        Temperature ``T = alpha · tr(Σ)^beta`` (0.01, 1.4).
+    gamma : float
+        Exponent of the distance in the potential energy (3).
+    """
+
+    name = "free-energy"
+
+    def __init__(self, *, alpha: float = 0.01, beta: float = 1.4, gamma: float = 3.0, **kw):
+        self.alpha = _positive("alpha", alpha)
+        self.beta = _positive("beta", beta)
+        self.gamma = _positive("gamma", gamma)
+        super().__init__(**kw)
+
+    def params(self) -> dict:
+        return dict(super().params(), alpha=self.alpha, beta=self.beta, gamma=self.gamma)
+
+    def scores(self, cands):
+        joint, _, dist = self.belief.outcomes(cands, eta=self.eta)
+        rho, H, P = posterior_entropies(joint)
+        Ps = np.maximum(P, 1e-300)
+        x = self.belief.support()
+        W = np.einsum("zmi,mi->zm", joint, dist ** self.gamma) / Ps                 # eq. (4)
+        mean = np.einsum("zmi,ic->zmc", joint, x) / Ps[..., None]
+        second = np.einsum("zmi,i->zm", joint, np.sum(x * x, axis=1)) / Ps
+        tr = np.maximum(second - np.sum(mean ** 2, axis=2), 0.0)
+        F = W + self.alpha * tr ** self.beta * H                                   # eq. (8)
+        return np.sum(rho * F, axis=0)                                             # eq. (10)
+
+    def free_energy(self, alpha=None, beta=None, gamma=None) -> float:
+        return super().free_energy(self.alpha, self.beta, self.gamma)
+
+
+@register
+class MaplessInfotaxis(PlumeSearch):
+    """Mapless infotaxis (Masson 2013) as papers/002 compares it: infotaxis with the
+    exploitative term on an extended domain and a constant temperature.
+
+    Parameters
+    ----------
+    extent : float
+        Radius of the extended domain (length unit).
+    temperature : float
+        Weight of the explorative term.
+    """
+
+    name = "mapless-infotaxis"
+
+    def __init__(self, *, extent: float = 10.0, temperature: float = 1.0, **kw):
+        self.extent = _positive("extent", extent)
+        self.temperature = _positive("temperature", temperature)
+        super().__init__(**kw)
+
+    def params(self) -> dict:
+        return dict(super().params(), extent=self.extent, temperature=self.temperature)
+
+    def scores(self, cands):
+        joint, _, dist = self.belief.outcomes(cands, eta=self.eta)
+        rho, H, _ = posterior_entropies(joint)
+        S = self.belief.entropy()
+        p_ext = (dist <= self.extent).astype(float) @ self.belief.weights()
+        return -p_ext * S + self.temperature * (1.0 - p_ext) * np.sum(rho * (H - S), axis=0)
+
+
+@register
+class Entrotaxis(PlumeSearch):
+    """Entrotaxis (Hutchinson, Oh & Chen 2018): the most uncertain next reading."""
+
+    name = "entrotaxis"
+
+    def scores(self, cands):
+        joint, _, _ = self.belief.outcomes(cands, eta=self.eta)
+        rho, _, _ = posterior_entropies(joint)
+        return np.sum(rho * np.log(np.where(rho > 0, rho, 1.0)), axis=0)   # = -entropy
+
+
+@register
+class SpaceAwareInfotaxis(PlumeSearch):
+    """Space-aware infotaxis (otto, Loisy & Eloy 2022)."""
+
+    name = "space-aware-infotaxis"
+
+    def scores(self, cands):
+        joint, p_found, _ = self.belief.outcomes(cands, eta=self.eta)
+        rho, H, P = posterior_entropies(joint)
+        x = self.belief.support()
+        cell = float(self.nominal["step"])
+        man = (np.abs(cands[:, None, 0] - x[None, :, 0]) + np.abs(cands[:, None, 1] - x[None, :, 1])) / cell
+        D = np.einsum("zmi,mi->zm", joint, man) / np.maximum(P, 1e-300)
+        v = D + 2.0 ** (H / np.log(2.0) - 1.0) - 0.5
+        v = np.where(v > 0, np.log2(np.where(v > 0, v, 1.0)), v)
+        return (1.0 - p_found) * np.sum(rho * v, axis=0)
+
+
+@register
+class VoIInfotaxis(Strategy):
+    """Multi-searcher infotaxis with shared readings (Hajieghrary, Mox & Hsieh 2017).
+
+    Every searcher keeps its own particle belief and takes infotaxis moves on it. Each
+    reading is an event ``(r, z)``; with ``share="all"`` every event goes to every other
+    searcher (Section 3.3.1); with ``share="voi"`` a searcher incorporates a teammate's
+    event only when its value of information passes `threshold` (Section 3.3.2). The
+    paper names two factors, how probable the event is under the receiver's belief and
+    how much it changes it, without a formula; we take their product,
+    ``VoI = P_A(z at r) · KL(post_A || prior_A)`` (nats), the event's share of the
+    expected information gain. One message is recorded per event that at least one
+    teammate takes (receivers: those that take it).
+
+    Parameters
+    ----------
+    share : {"all", "voi"}
+    threshold : float
+        VoI threshold (nats).
+    particles, resample_below, mcmc_steps, eta
+        As for :class:`PlumeSearch`.
+    """
+
+    name = "voi"
+    worlds = ("plume",)
+    agents = None
+
+    def __init__(self, *, share: str = "voi", threshold: float = 0.01, particles: int = 600,
+                 resample_below: float = 1 / 3, mcmc_steps: int = 1, eta: float = 1e-3):
+        if share not in ("all", "voi"):
+            raise SearchError(f"share must be 'all' or 'voi'; got {share!r}")
+        self.share = share
+        self.threshold = _positive("threshold", threshold)
+        self._single = dict(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
+        Infotaxis(**self._single)          # validates the shared parameters
+        super().__init__()
+
+    def params(self) -> dict:
+        return dict(self._single, share=self.share, threshold=self.threshold)
+
+    def start(self, ctx: SearchContext) -> None:
+        self._reset_state()
+        self.ctx = ctx
+        self.searchers = []
+        for k in range(ctx.n_agents):
+            sub = Infotaxis(**self._single)
+            sub.start(SearchContext(ctx.world, ctx.nominal, ctx.starts[k:k + 1], ctx.rng, ctx.messages))
+            self.searchers.append(sub)
+        self.n_shared = np.zeros(ctx.n_agents, dtype=int)
+        self._update_status()
+
+    def propose(self):
+        if self.done:
+            return None
+        return {k: s.propose() for k, s in enumerate(self.searchers)}
+
+    def value_of_information(self, belief: ParticleBelief, obs: Observation) -> float:
+        """``P(z at r) · KL(posterior || prior)`` of event `obs` for `belief` (nats)."""
+        w = belief.weights()
+        ll = belief._loglik(float(obs.value), belief.mean_counts(np.asarray(obs.position)[None])[0])
+        lik = np.exp(ll - np.max(ll))
+        pz_scaled = w @ lik
+        if pz_scaled <= 0:
+            return 0.0
+        post = w * lik / pz_scaled
+        nz = post > 0
+        kl = float(np.sum(post[nz] * np.log(post[nz] / w[nz])))
+        return float(pz_scaled * np.exp(np.max(ll))) * kl
+
+    def observe(self, observations, intent, agent: int = 0) -> None:
+        own = self.searchers[agent]
+        own.observe(observations, intent, 0)
+        self.n_measurements += len(observations)
+        self.n_samples += len(observations)
+        for obs in observations:
+            takers = []
+            for k, s in enumerate(self.searchers):
+                if k == agent:
+                    continue
+                if self.share == "all" or self.value_of_information(s.belief, obs) >= self.threshold:
+                    takers.append(k)
+            if takers:
+                self.ctx.messages.send(obs.time, agent, takers, "observation", 1)
+                for k in takers:
+                    self.searchers[k].belief.update(obs)
+                    self.n_shared[k] += 1
+        self._update_status()
+
+    def _update_status(self) -> None:
+        ents = [s.belief.entropy() for s in self.searchers]
+        best = int(np.argmin(ents))
+        st = self.searchers[best].status
+        self.status = Status(st.estimate, st.region_area,
+                             extra=dict(entropy=ents[best], entropies=ents, shared=self.n_shared.tolist()))

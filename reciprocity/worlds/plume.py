@@ -1,0 +1,226 @@
+"""The turbulent-plume world (truth): Poisson hits with the Vergassola et al. (2007) mean rate.
+
+A source at ``r0`` releases patches at rate ``R``; they live ``τ``, diffuse with ``D`` and
+are advected by a mean wind of speed ``V``. A spherical sensor of radius ``a`` at ``r``
+meets them at the mean rate
+
+    R(r | r0) = R / ln(λ/a) · A(r, r0) · K0(|r − r0| / λ),   λ = sqrt(D τ / (1 + V² τ / (4 D)))
+
+and the number of hits in a step ``Δt`` is Poisson with mean ``R(r | r0) Δt``. The
+advection factor ``A`` differs between the papers this world reproduces; each form is
+kept as its paper writes it (:data:`FORMS`):
+
+``"wind"``
+    ``A = exp(V / (2D) · (r − r0) · ŵ)`` with ``ŵ`` the unit vector the wind blows toward.
+    With ``ŵ = −ŷ`` this is Vergassola's ``exp((y0 − y) V / (2D))`` (REFERENCE.md); with
+    ``ŵ = +x̂`` it is ``exp((x − x0) V / (2D))``, the variant used for Song, He & Lei
+    (2019, papers/002), whose eq. (1) gives only the Poisson law and refers the rate to
+    Vergassola [14] and Ristic's code, with the source near the upwind (left) end of an
+    area elongated along x.
+``"isotropic"``
+    ``A = exp(V / (2D) · |r − r0|)``: the form Hajieghrary, Mox & Hsieh (2017,
+    papers/001) write under their Section 2 (the rate depends on the distance only).
+    It still decays, because ``1/λ > V/(2D)`` for every ``τ``.
+
+Without wind (``V = 0``, ``λ = sqrt(D τ)``) both reduce to the grid model of otto (Loisy
+& Eloy 2022): ``μ(d) = R Δt · K0(d/λ) / ln(λ/a)`` with ``a = Δx/2``.
+
+The world can differ from what a strategy is told (:class:`PlumeMismatch`: the true rate,
+wind, diffusivity and lifetime as multiples of the nominal ones).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+from scipy.special import k0
+
+from ..errors import SearchError
+from .base import Reading, World
+
+__all__ = ["FORMS", "PlumeParams", "PlumeMismatch", "PlumeWorld", "plume_length", "plume_rate"]
+
+#: Advection forms of the mean rate (see the module doc).
+FORMS = ("wind", "isotropic")
+
+
+def plume_length(D: float, tau: float, V: float) -> float:
+    """``λ = sqrt(D τ / (1 + V² τ / (4 D)))``, the plume's length scale (length units)."""
+    return float(np.sqrt(D * tau / (1.0 + V * V * tau / (4.0 * D))))
+
+
+@dataclass(frozen=True)
+class PlumeParams:
+    """Physical parameters of the hit model.
+
+    Attributes
+    ----------
+    rate : float
+        Release rate ``R`` (patches per unit time).
+    a : float
+        Sensor radius (length unit).
+    D : float
+        Effective diffusivity (length² per unit time).
+    tau : float
+        Patch lifetime (time units).
+    V : float
+        Mean wind speed (length per unit time), ``>= 0``.
+    wind_direction : float
+        Direction the wind blows toward, degrees from +x counter-clockwise.
+    form : str
+        Advection form, one of :data:`FORMS`.
+    """
+
+    rate: float = 1.0
+    a: float = 1.0
+    D: float = 1.0
+    tau: float = 400.0
+    V: float = 0.0
+    wind_direction: float = 270.0
+    form: str = "wind"
+
+    @property
+    def length(self) -> float:
+        """λ (length unit)."""
+        return plume_length(self.D, self.tau, self.V)
+
+    def scaled(self, m: "PlumeMismatch") -> "PlumeParams":
+        """These parameters with a mismatch's factors applied (the truth)."""
+        return PlumeParams(self.rate * m.rate_factor, self.a, self.D * m.diffusivity_factor,
+                           self.tau * m.tau_factor, self.V * m.wind_factor,
+                           self.wind_direction + m.wind_turn, self.form)
+
+    def as_dict(self) -> dict:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def plume_rate(at, sources, p: PlumeParams) -> np.ndarray:
+    """Mean hit rate ``R(r | r0)`` (hits per unit time) at places `at` for `sources`.
+
+    Parameters
+    ----------
+    at : array_like, shape (m, 2)
+        Sensor positions.
+    sources : array_like, shape (n, 2)
+        Hypothetical source positions.
+    p : PlumeParams
+
+    Returns
+    -------
+    ndarray, shape (m, n)
+
+    Notes
+    -----
+    Distances below the sensor radius ``a`` are raised to ``a`` (``K0`` diverges at 0;
+    a sensor of radius ``a`` cannot be closer to the source than that).
+    """
+    r = np.atleast_2d(np.asarray(at, dtype=float))
+    s = np.atleast_2d(np.asarray(sources, dtype=float))
+    dx = r[:, None, 0] - s[None, :, 0]
+    dy = r[:, None, 1] - s[None, :, 1]
+    d = np.maximum(np.hypot(dx, dy), p.a)
+    lam = p.length
+    out = (p.rate / np.log(lam / p.a)) * k0(d / lam)
+    if p.V > 0:
+        c = p.V / (2.0 * p.D)
+        if p.form == "wind":
+            th = np.radians(p.wind_direction)
+            out *= np.exp(c * (dx * np.cos(th) + dy * np.sin(th)))
+        else:
+            out *= np.exp(c * d)
+    return out
+
+
+@dataclass(frozen=True)
+class PlumeMismatch:
+    """How the true plume differs from the nominal one (all 1 / 0: no mismatch).
+
+    Attributes
+    ----------
+    rate_factor, wind_factor, diffusivity_factor, tau_factor : float
+        True ``R``, ``V``, ``D``, ``τ`` as multiples of the nominal values.
+    wind_turn : float
+        True wind direction minus the nominal one, degrees.
+    """
+
+    rate_factor: float = 1.0
+    wind_factor: float = 1.0
+    diffusivity_factor: float = 1.0
+    tau_factor: float = 1.0
+    wind_turn: float = 0.0
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "PlumeMismatch":
+        names = [f.name for f in fields(cls)]
+        unknown = set(d) - set(names)
+        if unknown:
+            raise SearchError(f"unknown plume mismatch option(s) {', '.join(sorted(unknown))}; "
+                              f"choose from {', '.join(names)}")
+        out = {}
+        for k, v in d.items():
+            ok = not isinstance(v, bool) and isinstance(v, (int, float)) and np.isfinite(v)
+            if not ok or (k != "wind_turn" and (v < 0 if k == "wind_factor" else v <= 0)):
+                raise SearchError(f"mismatch {k} must be a {'number' if k == 'wind_turn' else 'positive number'}; "
+                                  f"got {v!r}")
+            out[k] = float(v)
+        return cls(**out)
+
+    def as_dict(self) -> dict:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+class PlumeWorld(World):
+    """A source in a rectangle, read by a hit counter (the truth of ``plume`` scenarios).
+
+    Parameters
+    ----------
+    bounds : ((x0, x1), (y0, y1))
+        The search area (length unit).
+    source : array_like, shape (2,)
+        The true source.
+    params : PlumeParams
+        The nominal hit model (what a strategy is told).
+    mismatch : PlumeMismatch
+        How the truth differs from `params`.
+    found_radius : float
+        The search ends (FOUND) once an observer is within this distance of the source.
+    grid : float or None
+        Cell size when observers move on a grid of cell centres (otto), else None.
+    nominal_extra : dict
+        Further keys of :meth:`nominal` (motion, dt, initial hit, hit-count cap).
+    """
+
+    kind = "plume"
+
+    def __init__(self, bounds, source, params: PlumeParams, *, mismatch: PlumeMismatch | None = None,
+                 found_radius: float = 1.0, grid: float | None = None, nominal_extra: dict | None = None):
+        self.bounds = tuple(tuple(float(v) for v in b) for b in bounds)
+        self.source = np.asarray(source, dtype=float).reshape(2)
+        self.params = params
+        self.mismatch = mismatch or PlumeMismatch()
+        self.truth = params.scaled(self.mismatch)
+        self.found_radius = float(found_radius)
+        self.grid = grid
+        self._extra = dict(nominal_extra or {})
+
+    def rate(self, at) -> np.ndarray:
+        """True mean hit rate at `at` (m, 2), shape (m,)."""
+        return plume_rate(at, self.source[None], self.truth)[:, 0]
+
+    def read(self, position, *, time, dwell, rng) -> Reading:
+        mu = float(self.rate(np.asarray(position, dtype=float)[None])[0]) * float(dwell)
+        return Reading(float(rng.poisson(mu)), False, "hits")
+
+    def contains(self, points) -> np.ndarray:
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        (x0, x1), (y0, y1) = self.bounds
+        return (p[:, 0] >= x0) & (p[:, 0] <= x1) & (p[:, 1] >= y0) & (p[:, 1] <= y1)
+
+    def nominal(self) -> dict:
+        return dict(bounds=self.bounds, plume=self.params, found_radius=self.found_radius,
+                    grid=self.grid, **self._extra)
+
+    def describe(self) -> dict:
+        return dict(plume=self.params.as_dict(), mismatch=self.mismatch.as_dict(),
+                    found_radius=self.found_radius, initial_hit=self._extra.get("initial_hit"))

@@ -1,0 +1,228 @@
+"""The ``plume`` world kind of scenario files: parameters, world, the walker platform.
+
+Parameters (all optional except ``bounds`` and ``source``)::
+
+    bounds: [x0, x1, y0, y1]      # search area (length unit)
+    source: [x, y]                # or "drawn": otto's protocol (below)
+    rate: 2                       # release rate R (per unit time)
+    a: 1                          # sensor radius
+    D: 1                          # diffusivity
+    tau: 400                      # patch lifetime
+    V: 0.5                        # wind speed (>= 0)
+    wind_direction: 0             # degrees the wind blows toward (form "wind")
+    form: wind                    # wind | isotropic (see reciprocity.worlds.plume)
+    dt: 1                         # time step: hits per step are Poisson(R(r|r0) dt)
+    found_radius: 3               # the search ends when an observer is this close
+    motion: turn                  # turn | grid | reach
+    step: 1                       # distance per step (turn, reach) or cell size (grid)
+    max_turn: 3                   # turn: largest heading change per step, degrees
+    n_turns: 7                    # turn: number of evenly spaced heading changes
+    moves: 4                      # grid: 4 or 8 neighbours
+    max_hits: null                # hit counts >= max_hits are one outcome (otto); "auto"
+    initial_hit: random           # drawn source: the forced first hit (>= 1), or a count
+    mismatch: {rate_factor: 1.5}  # truth differs from the nominal model
+
+``source: drawn`` is otto's protocol (Loisy & Eloy 2022): the observer starts at the
+centre cell of the grid after a forced first hit ``h0 >= 1`` (drawn as otto draws it,
+over an unbounded plane, unless ``initial_hit`` is a count); the source is then drawn
+from the posterior of a uniform prior over the other cells given that hit, so that the
+strategy's Bayesian belief is exact. The strategy is told ``h0`` (never the source).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.special import k0
+from scipy.stats import poisson
+
+from ..errors import SearchError
+from ..scenarios import WorldKind, register_world
+from .plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, plume_length
+
+__all__ = ["PLUME", "PLUME_KEYS", "hit_probabilities", "otto_max_hits", "otto_initial_hit_probabilities"]
+
+#: Parameters of a ``plume`` scenario.
+PLUME_KEYS = ("bounds", "source", "rate", "a", "D", "tau", "V", "wind_direction", "form", "dt",
+              "found_radius", "motion", "step", "max_turn", "n_turns", "moves", "max_hits",
+              "initial_hit", "mismatch")
+MOTIONS = ("turn", "grid", "reach")
+
+
+def hit_probabilities(mu: np.ndarray, max_hits: int | None, kmax: int) -> np.ndarray:
+    """``P(h | mu)`` for ``h = 0..K``, shape (K+1, *mu.shape): Poisson, with counts
+    ``>= max_hits`` lumped into the last outcome when `max_hits` is given (otto's
+    ``Nhits - 1``), else cut at ``kmax``."""
+    mu = np.asarray(mu, dtype=float)
+    top = kmax if max_hits is None else max_hits
+    k = np.arange(top + 1).reshape((-1,) + (1,) * mu.ndim)
+    p = poisson.pmf(k, mu[None])
+    if max_hits is not None:
+        p[-1] = np.maximum(0.0, 1.0 - p[:-1].sum(axis=0))
+    return p
+
+
+def otto_max_hits(p: PlumeParams, spacing: float, dt: float) -> int:
+    """otto's automatic hit cap: ``ceil(μ(Δx) + sqrt(μ(Δx)))`` (its ``Nhits - 1``)."""
+    mu = p.rate * dt * k0(spacing / p.length) / np.log(p.length / p.a)
+    return int(np.ceil(mu + np.sqrt(mu)))
+
+
+def otto_initial_hit_probabilities(p: PlumeParams, spacing: float, dt: float, max_hits: int) -> np.ndarray:
+    """otto's law of the forced first hit ``h >= 1`` (index h), summed over distance shells
+    of an unbounded plane (``r = 1 .. 1000 λ/Δx`` cells, shell area ``2πr``)."""
+    r = np.arange(1, int(1000 * p.length / spacing)) * spacing
+    mu = p.rate * dt * k0(r / p.length) / np.log(p.length / p.a)
+    ph = hit_probabilities(mu, max_hits, max_hits) * (2 * np.pi * r)
+    out = ph.sum(axis=1)
+    out[0] = 0.0
+    return out / out.sum()
+
+
+def _num(params, key, default, *, positive=True, allow_zero=False, what=""):
+    v = params.get(key, default)
+    ok = not isinstance(v, bool) and isinstance(v, (int, float)) and np.isfinite(v)
+    if ok and positive:
+        ok = v > 0 or (allow_zero and v == 0)
+    if not ok:
+        need = "a non-negative number" if allow_zero else ("a positive number" if positive else "a number")
+        raise SearchError(f"plume {key} must be {need}{what}; got {v!r}")
+    return float(v)
+
+
+def _check(params: dict) -> dict:
+    unknown = set(params) - set(PLUME_KEYS)
+    if unknown:
+        raise SearchError(f"unknown plume world parameter(s) {', '.join(sorted(unknown))}; "
+                          f"choose from {', '.join(PLUME_KEYS)}")
+    out = dict(params)
+    b = params.get("bounds")
+    try:
+        x0, x1, y0, y1 = (float(v) for v in np.asarray(b, dtype=float).reshape(4))
+    except (TypeError, ValueError):
+        raise SearchError(f"plume bounds must be [x0, x1, y0, y1]; got {b!r}") from None
+    if not (np.isfinite([x0, x1, y0, y1]).all() and x1 > x0 and y1 > y0):
+        raise SearchError(f"plume bounds must be finite with x1 > x0 and y1 > y0; got {b!r}")
+    out["bounds"] = ((x0, x1), (y0, y1))
+    for key, default in (("rate", 1.0), ("a", 1.0), ("D", 1.0), ("tau", 400.0), ("dt", 1.0),
+                         ("found_radius", 1.0), ("step", 1.0)):
+        out[key] = _num(params, key, default)
+    out["V"] = _num(params, "V", 0.0, allow_zero=True)
+    out["wind_direction"] = _num(params, "wind_direction", 270.0, positive=False)
+    form = params.get("form", "wind")
+    if form not in FORMS:
+        raise SearchError(f"plume form must be one of {', '.join(FORMS)}; got {form!r}")
+    lam = plume_length(out["D"], out["tau"], out["V"])
+    if lam <= out["a"]:
+        raise SearchError(f"the plume length λ = {lam:.3g} must exceed the sensor radius a = {out['a']:g}; "
+                          "raise D or tau, or lower V or a")
+    motion = params.get("motion", "turn")
+    if motion not in MOTIONS:
+        raise SearchError(f"plume motion must be one of {', '.join(MOTIONS)}; got {motion!r}")
+    out["max_turn"] = _num(params, "max_turn", 3.0)
+    n = params.get("n_turns", 7)
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise SearchError(f"plume n_turns must be a positive whole number; got {n!r}")
+    moves = params.get("moves", 4)
+    if moves not in (4, 8):
+        raise SearchError(f"plume moves must be 4 or 8; got {moves!r}")
+    src = params.get("source")
+    if src == "drawn":
+        if motion != "grid":
+            raise SearchError("source: drawn (otto's protocol) needs motion: grid")
+        h0 = params.get("initial_hit", "random")
+        if h0 != "random" and (isinstance(h0, bool) or not isinstance(h0, int) or h0 < 1):
+            raise SearchError(f"plume initial_hit must be 'random' or a count >= 1; got {h0!r}")
+    else:
+        try:
+            s = np.asarray(src, dtype=float).reshape(2)
+        except (TypeError, ValueError):
+            raise SearchError(f"plume source must be [x, y] or 'drawn'; got {src!r}") from None
+        if not (np.isfinite(s).all() and x0 <= s[0] <= x1 and y0 <= s[1] <= y1):
+            raise SearchError(f"plume source {src!r} is outside the area [{x0:g}, {x1:g}] x [{y0:g}, {y1:g}]")
+        out["source"] = s.tolist()
+        if "initial_hit" in params:
+            raise SearchError("plume initial_hit applies only with source: drawn")
+    mh = params.get("max_hits")
+    if mh not in (None, "auto") and (isinstance(mh, bool) or not isinstance(mh, int) or mh < 1):
+        raise SearchError(f"plume max_hits must be null, 'auto' or a count >= 1; got {mh!r}")
+    m = params.get("mismatch") or {}
+    if isinstance(m, PlumeMismatch):
+        m = m.as_dict()
+    if not isinstance(m, dict):
+        raise SearchError(f"plume mismatch must be a mapping of options; got {m!r}")
+    out["mismatch"] = PlumeMismatch.from_dict(m)
+    return out
+
+
+def _params(params: dict) -> PlumeParams:
+    return PlumeParams(params["rate"], params["a"], params["D"], params["tau"], params["V"],
+                       params["wind_direction"], params.get("form", "wind"))
+
+
+def _grid_space(params: dict):
+    from ..spaces import GridSpace
+    return GridSpace(params["bounds"], params["step"], connectivity=params.get("moves", 4))
+
+
+def _build(params: dict, rng: np.random.Generator) -> PlumeWorld:
+    p = _params(params)
+    motion = params.get("motion", "turn")
+    grid = params["step"] if motion == "grid" else None
+    max_hits = params.get("max_hits")
+    if max_hits == "auto":
+        max_hits = otto_max_hits(p, params["step"], params["dt"])
+    extra = dict(motion=motion, step=params["step"], dt=params["dt"], max_turn=params["max_turn"],
+                 n_turns=params.get("n_turns", 7), moves=params.get("moves", 4), max_hits=max_hits,
+                 initial_hit=None)
+    source = params["source"]
+    if source == "drawn":
+        space = _grid_space(params)
+        (x0, x1), (y0, y1) = params["bounds"]
+        centre = space.points[space.nearest([(x0 + x1) / 2, (y0 + y1) / 2])]
+        cap = max_hits if max_hits is not None else otto_max_hits(p, params["step"], params["dt"])
+        h0 = params.get("initial_hit", "random")
+        if h0 == "random":
+            h0 = int(rng.choice(cap + 1, p=otto_initial_hit_probabilities(p, params["step"], params["dt"], cap)))
+        mu = (p.rate * params["dt"] * k0(np.maximum(np.hypot(*(space.points - centre).T), p.a) / p.length)
+              / np.log(p.length / p.a))
+        prior = hit_probabilities(mu, cap, cap)[min(h0, cap)]
+        prior[np.hypot(*(space.points - centre).T) < 1e-9] = 0.0
+        source = space.points[rng.choice(len(prior), p=prior / prior.sum())]
+        extra["initial_hit"] = int(h0)
+        extra["first_hit_at"] = centre.tolist()
+    return PlumeWorld(params["bounds"], source, p, mismatch=params["mismatch"],
+                      found_radius=params["found_radius"], grid=grid, nominal_extra=extra)
+
+
+def _default_start(world: PlumeWorld, rng: np.random.Generator) -> np.ndarray:
+    if "first_hit_at" in world._extra:
+        x, y = world._extra["first_hit_at"]
+        return np.array([x, y, 0.0])
+    (x0, x1), (y0, y1) = world.bounds
+    return np.array([x1 - 0.1 * (x1 - x0), y0 + 0.1 * (y1 - y0), np.pi / 2])
+
+
+def _walker(world: PlumeWorld, scenario, options: dict):
+    from ..platforms import WalkerPlatform
+    unknown = set(options) - {"slip"}
+    if unknown:
+        raise SearchError(f"unknown walker option(s) {', '.join(sorted(unknown))}; choose from slip")
+    starts = scenario.starts
+    if starts is not None:
+        d = np.hypot(*(np.asarray(starts)[:, :2] - world.source).T)
+        if np.any(d <= world.found_radius):
+            raise SearchError(f"a start is on the source (within found_radius {world.found_radius:g}); "
+                              "start farther away")
+        if "first_hit_at" in world._extra and np.any(np.hypot(*(starts[:, :2] - world._extra["first_hit_at"]).T) > 1e-6):
+            raise SearchError("source: drawn needs the start at the centre cell "
+                              f"{world._extra['first_hit_at']} (otto's protocol)")
+    slip = float(options.get("slip", 0.0))
+    nom = world.nominal()
+    if nom["motion"] == "grid":
+        return WalkerPlatform(_grid_space(dict(bounds=world.bounds, step=nom["step"], moves=nom["moves"])),
+                              slip=slip, dt=nom["dt"])
+    reach = nom["step"] * (np.sqrt(2.0) if nom["motion"] == "reach" else 1.0)
+    return WalkerPlatform(None, slip=slip, max_step=reach * (1 + 1e-9), dt=nom["dt"])
+
+
+PLUME = register_world(WorldKind("plume", _check, _build, {"walker": _walker}, _default_start))
