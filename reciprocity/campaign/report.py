@@ -297,6 +297,7 @@ def _distribution_figure(con, effort: str, path: Path) -> Path:
         ax.set_xticks(range(1, len(keys) + 1), keys, rotation=30, ha="right", fontsize="small")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3, axis="y")
+    ax_e.set_yscale("symlog", linthresh=1.0)  # a few lost runs are off by the arena's size
     fig.savefig(path, dpi=130)
     return path
 
