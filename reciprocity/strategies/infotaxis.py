@@ -266,11 +266,12 @@ class FreeEnergyInfotaxis(PlumeSearch):
 
     name = "free-energy"
 
-    def __init__(self, *, alpha: float = 0.01, beta: float = 1.4, gamma: float = 3.0, **kw):
+    def __init__(self, *, alpha: float = 0.01, beta: float = 1.4, gamma: float = 3.0, particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1,
+                 eta: float = 1e-3):
         self.alpha = _positive("alpha", alpha)
         self.beta = _positive("beta", beta)
         self.gamma = _positive("gamma", gamma)
-        super().__init__(**kw)
+        super().__init__(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
 
     def params(self) -> dict:
         return dict(super().params(), alpha=self.alpha, beta=self.beta, gamma=self.gamma)
@@ -306,10 +307,11 @@ class MaplessInfotaxis(PlumeSearch):
 
     name = "mapless-infotaxis"
 
-    def __init__(self, *, extent: float = 10.0, temperature: float = 1.0, **kw):
+    def __init__(self, *, extent: float = 10.0, temperature: float = 1.0, particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1,
+                 eta: float = 1e-3):
         self.extent = _positive("extent", extent)
         self.temperature = _positive("temperature", temperature)
-        super().__init__(**kw)
+        super().__init__(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
 
     def params(self) -> dict:
         return dict(super().params(), extent=self.extent, temperature=self.temperature)

@@ -34,7 +34,7 @@ from __future__ import annotations
 from dataclasses import dataclass, fields
 
 import numpy as np
-from scipy.special import k0
+from scipy.special import k0e
 
 from ..errors import SearchError
 from .base import Reading, World
@@ -121,15 +121,17 @@ def plume_rate(at, sources, p: PlumeParams) -> np.ndarray:
     dy = r[:, None, 1] - s[None, :, 1]
     d = np.maximum(np.hypot(dx, dy), p.a)
     lam = p.length
-    out = (p.rate / np.log(lam / p.a)) * k0(d / lam)
+    # K0(x) = k0e(x) exp(-x): the advection and decay exponents are summed before exp,
+    # so that far from the source neither overflows
+    expo = -d / lam
     if p.V > 0:
         c = p.V / (2.0 * p.D)
         if p.form == "wind":
             th = np.radians(p.wind_direction)
-            out *= np.exp(c * (dx * np.cos(th) + dy * np.sin(th)))
+            expo = expo + c * (dx * np.cos(th) + dy * np.sin(th))
         else:
-            out *= np.exp(c * d)
-    return out
+            expo = expo + c * d
+    return (p.rate / np.log(lam / p.a)) * k0e(d / lam) * np.exp(expo)
 
 
 @dataclass(frozen=True)

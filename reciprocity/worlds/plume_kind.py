@@ -174,6 +174,10 @@ def _build(params: dict, rng: np.random.Generator) -> PlumeWorld:
     extra = dict(motion=motion, step=params["step"], dt=params["dt"], max_turn=params["max_turn"],
                  n_turns=params.get("n_turns", 7), moves=params.get("moves", 4), max_hits=max_hits,
                  initial_hit=None)
+    if motion == "grid":
+        extra["space"] = _grid_space(params)       # the places and moves (otto's grid)
+    else:
+        extra["max_step"] = params["step"]         # longest move in the plane
     source = params["source"]
     if source == "drawn":
         space = _grid_space(params)
