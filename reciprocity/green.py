@@ -156,16 +156,16 @@ class GreenSolver:
         self._lu = splu(a_free[:, self._free].tocsc())
         self.timings["factorize"] = time.perf_counter() - clock
         # point location: a trapezoid map on the straight-sided vertex mesh (O(log n))
-        self._tri = mesh.triangulation if mesh is not None else Triangulation(
-            mesh1.p[0], mesh1.p[1], mesh1.t.T)
-        self._finder = self._tri.get_trifinder()
+        from .spaces.mesh import MeshSpace
+        #: The straight-sided vertex mesh as a search space: point location, triangulation.
+        self.space = mesh if mesh is not None else MeshSpace(arena, self.h, mesh=mesh1)
         self._centroids = cKDTree(mesh1.p[:, mesh1.t].mean(axis=1).T)
         self._grid_cache: dict = {}
 
     @property
     def triangulation(self) -> Triangulation:
         """The straight-sided vertex mesh as a matplotlib Triangulation (built once)."""
-        return self._tri
+        return self.space.triangulation
 
     # ------------------------------------------------------------------ set-up
     def _curved(self, mesh1: skfem.MeshTri) -> skfem.MeshTri2:
@@ -223,8 +223,7 @@ class GreenSolver:
 
     def locate(self, points) -> np.ndarray:
         """Index of the mesh triangle holding each point, -1 outside the free region."""
-        pts = as_points(points)
-        return np.asarray(self._finder(pts[:, 0], pts[:, 1]), dtype=np.int64)
+        return self.space.locate(as_points(points))
 
     def probe_matrix(self, points) -> tuple[sp.csr_matrix, np.ndarray]:
         """Sparse matrix mapping dof values to values at `points`, and an inside mask.

@@ -14,6 +14,7 @@ import numpy as np
 from matplotlib.tri import Triangulation
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 
 from arenas import Arena
 
@@ -46,24 +47,41 @@ class MeshSpace(SearchSpace):
         Lumped nodal areas (a third of each adjacent triangle), cm².
     wall_distance : ndarray, shape (n,)
         Distance of each node to the nearest wall, cm.
+    mesh : skfem.MeshTri, optional
+        An existing mesh of the arena to wrap instead of meshing (keyword only).
     """
 
-    def __init__(self, arena: Arena, h: float = 1.0, grading: float | None = 0.5):
+    def __init__(self, arena: Arena, h: float = 1.0, grading: float | None = 0.5, *, mesh=None):
         self.arena, self.h = arena, float(h)
-        self.mesh = mesh_free_region(arena, self.h, grading=grading)
+        self.mesh = mesh if mesh is not None else mesh_free_region(arena, self.h, grading=grading)
         self.points = self.mesh.p.T
         self.triangles = self.mesh.t.T
         self.cell_areas = node_areas(self.points, self.triangles)
-        self.wall_distance = arena.wall_distance(self.points)
         t = self.triangles
         self._edges = (np.concatenate([t[:, 0], t[:, 1], t[:, 2]]),
                        np.concatenate([t[:, 1], t[:, 2], t[:, 0]]))
-        i, j = self._edges
-        n = len(self.points)
-        self._adjacency = coo_matrix((np.ones(i.size), (i, j)), shape=(n, n)).tocsr()
-        self._adjacency = ((self._adjacency + self._adjacency.T) > 0).tocsr()
         self._labels: dict[float, np.ndarray] = {}
         self._triangulation: Triangulation | None = None
+        self._finder = None
+        self._wall_distance = None
+        self._adjacency = None
+        # point location: nearest triangle centroids, then barycentric coordinates
+        corners = self.points[self.triangles]                      # (m, 3, 2)
+        self._centroid_tree = cKDTree(corners.mean(axis=1))
+        e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+        det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+        self._inv = np.stack([np.stack([e2[:, 1], -e2[:, 0]], 1), np.stack([-e1[:, 1], e1[:, 0]], 1)], 1) \
+            / det[:, None, None]                                    # rows map p - c0 to (l1, l2)
+        self._origin = corners[:, 0]
+        # no triangle holds a point farther from every centroid than this
+        self._reach = float(np.max(np.linalg.norm(corners - corners.mean(axis=1)[:, None], axis=2)))
+
+    @property
+    def wall_distance(self) -> np.ndarray:
+        """Distance of each node to the nearest wall, cm (computed once, on first use)."""
+        if self._wall_distance is None:
+            self._wall_distance = self.arena.wall_distance(self.points)
+        return self._wall_distance
 
     @property
     def nodes(self) -> np.ndarray:
@@ -82,8 +100,39 @@ class MeshSpace(SearchSpace):
         return self.arena.contains(np.atleast_2d(np.asarray(points, dtype=float)))
 
     def neighbours(self, i: int) -> np.ndarray:
-        row = self._adjacency[int(i)]
-        return row.indices.copy()
+        if self._adjacency is None:
+            i_, j_ = self._edges
+            n = len(self.points)
+            a = coo_matrix((np.ones(i_.size), (i_, j_)), shape=(n, n)).tocsr()
+            self._adjacency = ((a + a.T) > 0).tocsr()
+        return self._adjacency[int(i)].indices.copy()
+
+    def locate(self, points, k: int = 8) -> np.ndarray:
+        """Index of the triangle holding each point (m, 2), -1 outside the mesh.
+
+        The `k` triangles with the nearest centroids are tested by barycentric
+        coordinates (a quality mesh holds the point in one of them); the rare rest go
+        to matplotlib's trapezoid map, built on first need (it costs seconds on a
+        30 000-triangle mesh, which start-up should not pay).
+        """
+        pts = np.atleast_2d(np.asarray(points, dtype=float))
+        out = -np.ones(len(pts), dtype=np.int64)
+        if not len(pts):
+            return out
+        k = min(k, len(self.triangles))
+        dist, cand = self._centroid_tree.query(pts, k=k)
+        cand, dist = cand.reshape(len(pts), k), dist.reshape(len(pts), k)
+        lam = np.einsum("mkij,mkj->mki", self._inv[cand], pts[:, None, :] - self._origin[cand])
+        tol = -1e-12
+        inside = (lam[..., 0] >= tol) & (lam[..., 1] >= tol) & (lam.sum(axis=2) <= 1 - tol)
+        found = inside.any(axis=1)
+        out[found] = cand[found, np.argmax(inside[found], axis=1)]
+        rest = np.flatnonzero(~found & (dist[:, 0] <= self._reach))
+        if rest.size:
+            if self._finder is None:
+                self._finder = self.triangulation.get_trifinder()
+            out[rest] = self._finder(pts[rest, 0], pts[rest, 1])
+        return out
 
     # -- candidates ---------------------------------------------------------------------
     def admissible(self, clearance: float = 0.0) -> np.ndarray:

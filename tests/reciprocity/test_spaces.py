@@ -1,0 +1,42 @@
+"""Search spaces: the mesh of the free region (point location, reachability) and grids."""
+
+import numpy as np
+import pytest
+from matplotlib.tri import Triangulation
+
+import arenas
+from reciprocity.spaces import GridSpace, MeshSpace, mesh_space
+
+
+@pytest.mark.parametrize("name", ["paper", "disk", "maze"])
+def test_point_location_agrees_with_the_trapezoid_map(name):
+    """The fast locator (nearest centroids + barycentric test) finds exactly the triangle
+    matplotlib's trapezoid map finds, inside, outside and next to walls."""
+    arena = arenas.load(name).without_scenario()
+    space = MeshSpace(arena, 3.0)
+    (x0, x1), (y0, y1) = arena.bounds
+    rng = np.random.default_rng(1)
+    pts = np.vstack([rng.uniform([x0 - 5, y0 - 5], [x1 + 5, y1 + 5], (20000, 2)),
+                     space.points + rng.normal(0, 0.05, space.points.shape)])  # near nodes and walls
+    ref = Triangulation(space.points[:, 0], space.points[:, 1], space.triangles).get_trifinder()
+    assert np.array_equal(space.locate(pts), ref(pts[:, 0], pts[:, 1]))
+
+
+def test_reachability_respects_the_clearance_and_gaps():
+    arena = arenas.load("paper").without_scenario()
+    space = mesh_space(arena, 2.0)
+    start = np.array([128.0, 12.0])
+    loose, tight = space.reachable_from(start, 0.0), space.reachable_from(start, 4.0)
+    assert tight.sum() < loose.sum() and not np.any(tight & ~loose)
+    # every reachable node keeps the clearance, measured with the arena's own geometry
+    assert np.all(arena.wall_distance(space.points[tight]) >= 4.0 - 1e-9)
+
+
+def test_grid_neighbours_and_masking():
+    g = GridSpace(((0, 4), (0, 3)), 1.0, connectivity=8, mask=lambda p: ~((p[:, 0] > 2) & (p[:, 1] > 2)))
+    assert len(g) == 10                       # 12 cells; (2.5, 2.5) and (3.5, 2.5) masked
+    centre = g.index_of([[1.5, 1.5]])[0]
+    assert len(g.neighbours(centre)) == 8
+    corner = g.index_of([[3.5, 1.5]])[0]      # its upper neighbours are masked
+    assert sorted(g.points[g.neighbours(corner)].tolist()) == [[2.5, 0.5], [2.5, 1.5], [3.5, 0.5]]
+    assert g.index_of([[3.5, 2.5], [9.0, 9.0]]).tolist() == [-1, -1]
