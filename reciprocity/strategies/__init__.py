@@ -20,6 +20,7 @@ def register(cls: type[Strategy]) -> type[Strategy]:
     return cls
 
 
+from . import rbpf  # noqa: E402,F401  (registers "rbpf", "rbpf-infotaxis")
 from . import infotaxis  # noqa: E402,F401  (registers the plume strategies)
 
 __all__ = ["GradientStrategy", "MAX_REJECTIONS", "RandomWalkStrategy", "ReciprocityStrategy",

@@ -14,7 +14,7 @@ __all__ = ["LATTICE", "LATTICE_KEYS", "MIN_RADIUS"]
 
 #: Parameters of a ``lattice`` scenario.
 LATTICE_KEYS = ("radius", "p", "source", "strength", "entry", "slip", "primary", "secondary",
-                "connectivity")
+                "connectivity", "lattice_seed")
 #: Smallest lattice radius accepted.
 MIN_RADIUS = 2
 
@@ -76,6 +76,11 @@ def _check(params: dict) -> dict:
         raise SearchError(f"connectivity must be 'all' (every node inside R0 connected) or 'nodes' "
                           f"(source and entry connected); got {conn!r}")
     out["connectivity"] = conn
+    ls = params.get("lattice_seed")
+    if ls is not None and (isinstance(ls, bool) or not isinstance(ls, int) or ls < 0):
+        raise SearchError(f"lattice_seed must be a non-negative whole number (one lattice for every "
+                          f"episode, as the paper's Fig. 2) or null (a lattice per episode); got {ls!r}")
+    out["lattice_seed"] = ls
     return out
 
 
@@ -84,6 +89,8 @@ def _build(params: dict, rng: np.random.Generator) -> LatticeWorld:
     keep = [int(full.index_of(params["source"])[0])]
     if params.get("entry") is not None:
         keep.append(int(full.index_of(params["entry"])[0]))
+    if params.get("lattice_seed") is not None:       # one lattice for all episodes (the paper's Fig. 2)
+        rng = np.random.default_rng(np.random.SeedSequence([int(params["lattice_seed"]), 0x1A77]))
     present, draws = draw_links(full, params["p"], rng, connectivity=params["connectivity"], keep=tuple(keep))
     return LatticeWorld(full.with_links(present), params["source"], params["strength"],
                         primary=params["primary"], secondary=params["secondary"], p=params["p"],
