@@ -170,7 +170,8 @@ class ParticleBelief(Belief):
         """Systematic resampling, then Metropolis-Hastings moves on the history posterior."""
         u = (self.rng.random() + np.arange(self.M)) / self.M
         idx = np.minimum(np.searchsorted(np.cumsum(self._w), u), self.M - 1)
-        cov = np.cov(self.x.T, aweights=self._w) + 1e-6 * np.eye(2)
+        dev = self.x - self._w @ self.x
+        cov = (self._w[:, None] * dev).T @ dev + 1e-6 * np.eye(2)      # weighted, biased
         self.x, self.loglik = self.x[idx].copy(), self.loglik[idx].copy()
         h = (4.0 / (self.M * 4.0)) ** (1.0 / 6.0)     # Silverman's factor for d = 2
         chol = np.linalg.cholesky(h * h * cov + 1e-9 * np.eye(2))

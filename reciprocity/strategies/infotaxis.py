@@ -231,7 +231,8 @@ class PlumeSearch(Strategy):
         b = self.belief
         w, x = b.weights(), b.support()
         est = w @ x
-        cov = np.cov(x.T, aweights=w) if np.count_nonzero(w) > 1 else np.zeros((2, 2))
+        dev = x - est
+        cov = (w[:, None] * dev).T @ dev
         area = float(np.pi * 5.991 * np.sqrt(max(np.linalg.det(cov), 0.0)))
         self.status = Status(est, area, extra=dict(entropy=b.entropy(), spread=b.spread(),
                                                    free_energy=self.free_energy(), n_eff=b.n_eff()))
