@@ -64,6 +64,7 @@ class HMMSourceMap(Belief):
         self.eps_d, self.eps_c, self.mu, self.radius = float(eps_d), float(eps_c), float(mu), float(radius)
         N = grid.N
         self.centres = grid.centres()
+        self._neighbours = grid.neighbours()
         self.pi = np.full(N, 1.0 / N)                      # uniform prior (Sect. III-B)
         self.psi = np.eye(N)                               # Ψ(t_0, t_0) = I
         self._buf = np.empty_like(self.psi)
@@ -73,6 +74,7 @@ class HMMSourceMap(Belief):
         self._winds: list = []
         self._detected = False
         self._alpha = None
+        self.flow = np.zeros(2)                            # the last period's mean flow, m/s
 
     # -- updates -------------------------------------------------------------------------
     def update(self, obs: Observation) -> None:
@@ -91,7 +93,8 @@ class HMMSourceMap(Belief):
     def advance(self, u, detected: bool, position) -> None:
         """One mapping period: Ψ by eq. (13) with Ā from the mean flow `u` (m/s), then the
         SLIM update from a detection or non-detection at `position`."""
-        t = transition(self.grid, np.asarray(u, dtype=float), self.period)
+        self.flow = np.asarray(u, dtype=float)
+        t = transition(self.grid, self.flow, self.period)
         self.n += 1
         t.superpose(self.psi, self.n, self._buf)
         self.psi, self._buf = self._buf, self.psi
@@ -122,6 +125,10 @@ class HMMSourceMap(Belief):
         if self._alpha is None:
             self._alpha = row_combination(self.pi, self.psi)
         return self._alpha
+
+    def detection_probability(self) -> np.ndarray:
+        """``b_k α_k = μ α_k`` (eq. (6)): probability of a detection in each cell now."""
+        return self.mu * self.alpha()
 
     def support(self) -> np.ndarray:
         return self.centres
@@ -161,7 +168,7 @@ class HMMSourceMap(Belief):
     def mldp(self, j: int, steps: int, end: int | None = None) -> np.ndarray:
         """The `steps`-step most likely detection path from ``C_j`` (Sect. IV-C3) on the
         current α, to `end` (default: the best end cell). Cells in path order."""
-        log_mu, prev = detection_path(self.alpha(), self.grid.neighbours(), j, steps)
+        log_mu, prev = detection_path(self.alpha(), self._neighbours, j, steps)
         q = [int(np.argmax(log_mu[-1])) if end is None else int(end)]
         for s in range(steps - 1, -1, -1):
             q.append(int(prev[s][q[-1]]))

@@ -22,6 +22,8 @@ def register(cls: type[Strategy]) -> type[Strategy]:
 
 from . import rbpf  # noqa: E402,F401  (registers "rbpf", "rbpf-infotaxis")
 from . import infotaxis  # noqa: E402,F401  (registers the plume strategies)
+from . import hmm_search  # noqa: E402,F401  (registers "hmm", "surge-cast")
+
 
 __all__ = ["GradientStrategy", "MAX_REJECTIONS", "RandomWalkStrategy", "ReciprocityStrategy",
            "STRATEGIES", "SearchContext", "Status", "Strategy", "register", "three_point_gradient"]

@@ -1,0 +1,50 @@
+"""Short episodes of ``hmm`` and ``surge-cast`` in the farrell scenario: the contract's
+summary keys, reproducibility, parameters and bad input."""
+
+import numpy as np
+import pytest
+
+from reciprocity.api import check, run
+from reciprocity.episode import SUMMARY_KEYS
+from reciprocity.errors import SearchError
+
+
+@pytest.mark.parametrize("strategy", ["hmm", "surge-cast"])
+def test_short_episode_has_the_contract_keys(strategy):
+    sc = check("farrell", strategy)
+    sc.max_steps = 300                                    # 30 s at 10 Hz
+    ep = run(sc, strategy, seed=3, world={"start": [60.0, 5.0], "spinup": 60.0})
+    s = ep.summary
+    assert set(SUMMARY_KEYS) <= set(s)
+    assert s["world"] == "filament" and s["strategy"] == strategy and s["steps"] <= 300
+    assert s["path_length"] <= 0.1 * s["steps"] + 1e-9     # 1 m/s at 10 Hz
+    assert s["sim_time_s"] == pytest.approx(0.1 * s["steps"])
+    pts = np.array([r["pose"][:2] for r in ep.trace])
+    assert (pts[:, 0] >= 0).all() and (pts[:, 0] <= 100).all() and (np.abs(pts[:, 1]) <= 50).all()
+    again = run(sc, strategy, seed=3, world={"start": [60.0, 5.0], "spinup": 60.0}).summary
+    assert again["estimate"] == s["estimate"] and again["steps"] == s["steps"]
+
+
+def test_hmm_status_reports_the_map():
+    sc = check("farrell", "hmm")
+    sc.max_steps = 200
+    ep = run(sc, "hmm", seed=1, world={"start": [50.0, 0.0], "spinup": 60.0})
+    rec = [r for r in ep.trace if "map_mass" in r]
+    assert len(rec) >= 19                                 # one map update per second
+    assert 0 < rec[-1]["map_mass"] <= 1
+
+
+@pytest.mark.parametrize("strategy, params, words", [
+    ("hmm", {"eps_d": 1.5}, "eps_d"), ("hmm", {"horizon": 0}, "horizon"),
+    ("hmm", {"stop_mass": 0}, "stop_mass"), ("hmm", {"target": "moon"}, "target"),
+    ("surge-cast", {"surge_time": -1}, "surge_time"), ("hmm", {"bogus": 1}, "bogus"),
+])
+def test_bad_parameters_are_one_line(strategy, params, words):
+    with pytest.raises(SearchError) as e:
+        check("farrell", strategy, params=params)
+    assert words in str(e.value) and "\n" not in str(e.value)
+
+
+def test_hmm_applies_to_filament_worlds_only():
+    with pytest.raises(SearchError, match="does not apply"):
+        check("paper", "hmm")
