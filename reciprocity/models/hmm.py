@@ -71,6 +71,18 @@ class CellGrid:
         k = np.asarray(k)
         return k % self.m, k // self.m
 
+    def from_paper(self, number: int) -> int:
+        """Our index of the paper's cell ``C_number``: the paper counts from 1 and its
+        rows from the top of the region (its C_64 lies at the top edge, C_488 holds
+        the source at (20, 0))."""
+        i, row = (int(number) - 1) % self.m, (int(number) - 1) // self.m
+        return i + (self.n - 1 - row) * self.m
+
+    def to_paper(self, k: int) -> int:
+        """The paper's number of our cell `k` (inverse of :meth:`from_paper`)."""
+        i, j = int(k) % self.m, int(k) // self.m
+        return i + (self.n - 1 - j) * self.m + 1
+
     def neighbours(self) -> np.ndarray:
         """The neighbours function of Appendix I: for each cell its inclusive 3 × 3
         neighbourhood, shape (N, 9), ``-1`` where the neighbour is outside (C0)."""

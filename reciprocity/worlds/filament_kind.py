@@ -10,7 +10,7 @@ from ..errors import SearchError
 from ..scenarios import WorldKind, register_world
 from .filament import FilamentParams, FilamentWorld
 
-__all__ = ["FILAMENT", "FILAMENT_KEYS", "source_cell"]
+__all__ = ["FILAMENT", "FILAMENT_KEYS", "filament_params", "source_cell"]
 
 #: Parameters of a ``filament`` scenario (besides the common keys).
 FILAMENT_KEYS = tuple(f.name for f in fields(FilamentParams)) + ("cells", "speed")
@@ -70,12 +70,13 @@ def _check(params: dict) -> dict:
     return out
 
 
-def _params(params: dict) -> FilamentParams:
+def filament_params(params: dict) -> FilamentParams:
+    """The :class:`FilamentParams` of validated scenario parameters."""
     return FilamentParams(**{k: params[k] for k in (f.name for f in fields(FilamentParams)) if k in params})
 
 
 def _build(params: dict, rng: np.random.Generator) -> FilamentWorld:
-    return FilamentWorld(_params(params), cells=params["cells"], speed=params["speed"])
+    return FilamentWorld(filament_params(params), cells=params["cells"], speed=params["speed"])
 
 
 def source_cell(region, cells, point) -> int:

@@ -162,3 +162,31 @@ def test_one_map_update_is_fast():
         b.alpha()
         times.append(time.perf_counter() - t0)
     assert np.median(times[10:]) < 5e-3
+
+
+def test_paper_cell_numbers():
+    g = CellGrid((0, 100, -50, 50), 40, 25)
+    x0, y0 = g.centres()[g.from_paper(488)]
+    assert abs(x0 - 20) <= 1.25 and abs(y0) <= 2           # the source's cell, C_488
+    assert g.centres()[g.from_paper(64)][1] > 40             # C_64 lies at the top edge
+    assert all(g.to_paper(g.from_paper(k)) == k for k in (1, 64, 388, 471, 488, 619, 1000))
+
+
+def test_most_likely_odour_path_under_the_uniform_flow_of_eq_18():
+    """Fig. 7's set-up: 1 m/s along x for t < 30 s, then along y; the MLOP from C_488 at
+    t = 0 to C_388 at t = 44 s moves only downflow: +x first, then +y."""
+    g = CellGrid((0, 100, -50, 50), 40, 25)
+    mats = [transition(g, (1.0, 0.0) if t < 30 else (0.0, 1.0), 1.0).bar() for t in range(44)]
+    log_d, psi = viterbi(np.eye(g.N)[g.from_paper(488)], mats)
+    q = backtrack(psi, g.from_paper(388))
+    assert np.isfinite(log_d[-1, g.from_paper(388)])
+    i, j = g.ij(q)
+    assert q[0] == g.from_paper(488) and q[-1] == g.from_paper(388)
+    assert (np.diff(i[:31]) >= 0).all() and (np.diff(j[:31]) == 0).all()
+    assert (np.diff(i[30:]) == 0).all() and (np.diff(j[30:]) >= 0).all()
+
+
+def test_farrell_figures_are_written(tmp_path):
+    from reciprocity.viz.hmm import farrell_figures
+    (path,) = farrell_figures(tmp_path)
+    assert path.exists() and path.stat().st_size > 20_000

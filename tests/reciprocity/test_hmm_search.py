@@ -48,3 +48,11 @@ def test_bad_parameters_are_one_line(strategy, params, words):
 def test_hmm_applies_to_filament_worlds_only():
     with pytest.raises(SearchError, match="does not apply"):
         check("paper", "hmm")
+
+
+@pytest.mark.benchmark
+def test_a_300_s_search_takes_under_10_s():
+    import time
+    t0 = time.perf_counter()
+    s = run("farrell", "hmm", seed=0, world={"start": [95.0, -45.0]}, params={"stop_mass": 0.99}).summary
+    assert s["steps"] == 3000 and time.perf_counter() - t0 < 10.0
