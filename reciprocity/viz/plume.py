@@ -9,7 +9,7 @@ from matplotlib.figure import Figure
 from ..episode import Episode
 from ..worlds.plume import PlumeWorld
 
-__all__ = ["rate_field_figure", "search_figure", "voi_figure"]
+__all__ = ["rate_field_figure", "search_figure", "voi_figure", "write_figures"]
 
 
 def _rate_image(ax, world: PlumeWorld, n: int = 200):
@@ -122,3 +122,35 @@ def voi_figure(episodes: dict, world: PlumeWorld) -> Figure:
     ax.set_title("message timeline")
     ax.legend()
     return fig
+
+
+def write_figures(out, *, seed: int = 2) -> list:
+    """Write the plume figures (PNG) to folder `out`: rate fields of the song-100,
+    otto-2d and hajieghrary scenarios; free-energy and infotaxis runs on song-100 with
+    ±30° turns and infotaxis with the paper's printed ±3° (it circles the estimate); the
+    three hajieghrary teams. Returns the paths."""
+    from pathlib import Path
+
+    from ..api import execute
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = []
+
+    def save(fig, name):
+        paths.append(out / name)
+        fig.savefig(paths[-1], dpi=80)
+
+    for sc in ("song-100", "otto-2d", "hajieghrary"):
+        _, _, plats = execute(sc, "random-walk", seed=0, params={"n_steps": 1}, agents=1)
+        save(rate_field_figure(plats[0].world, title=f"{sc}: true mean hits per step"), f"rate_{sc}.png")
+    for name, turn, s in (("free-energy", 30, seed), ("infotaxis", 30, seed), ("infotaxis", 3, 1)):
+        ep, strat, plats = execute("song-100", name, seed=s, world={"max_turn": turn})
+        save(search_figure(ep, strat, plats[0].world,
+                           title=f"{name}, ±{turn}°: {ep.summary['steps']} steps, {ep.summary['stop']}"),
+             f"search_{name}_turn{turn}.png")
+    teams = {}
+    for label, agents, share in (("1 searcher", 1, "all"), ("3, share all", 3, "all"),
+                                 ("3, share by VoI", 3, "voi")):
+        teams[label], _, plats = execute("hajieghrary", "voi", seed=0, agents=agents, params={"share": share})
+    save(voi_figure(teams, plats[0].world), "voi.png")
+    return paths

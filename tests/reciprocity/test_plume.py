@@ -224,3 +224,14 @@ def test_bad_strategy_parameters(params, match):
     name = "voi" if "share" in params else ("free-energy" if "alpha" in params else "infotaxis")
     with pytest.raises(SearchError, match=match):
         run("song-100", name, params=params)
+
+
+def test_search_figure_draws_the_path_hits_and_clouds():
+    from reciprocity.api import execute
+    from reciprocity.viz.plume import search_figure
+    sc = replace(load_scenario("song-100"), max_steps=25)
+    ep, strat, plats = execute(sc, "free-energy", seed=2, params=QUICK)
+    fig = search_figure(ep, strat, plats[0].world)
+    path_ax = fig.axes[0]
+    assert len(path_ax.lines[1].get_xdata()) == ep.summary["steps"] + 1   # start + one point a step
+    assert len(strat.snapshots) == 3                                      # steps 0, 10, 20
