@@ -13,8 +13,8 @@ moths' surge/cast for comparison.
     travel (after a detection, among the cells upflow of the vehicle) and follows the
     most likely detection path to it (MLDP, Sect. IV-C3), one cell at a time, at full
     speed. It stops when the map's mass within `radius` of its peak reaches
-    `stop_mass`; the estimate is the π̂-weighted centre there. ``target="peak"`` goes
-    to the map's most likely cells instead (a baseline).
+    `stop_mass` (after at least `min_time`); the estimate is the π̂-weighted centre
+    there. ``target="peak"`` goes to the map's most likely cells instead (a baseline).
 ``surge-cast``
     The upwind surge / crosswind cast of moths reviewed by the paper: on a detection,
     surge against the locally measured wind for `surge_time`; when the odour is lost,
@@ -99,12 +99,17 @@ class HMMSearch(_PlaneWalk):
         Mapping and planning period, s (the paper's 1 s).
     target : str
         ``"bisect"`` (the module doc's value) or ``"peak"`` (the map's weight).
+    min_time : float
+        Never stop before this many seconds of map: until the flow history spans the
+        region, β̄ is dominated by its short lags and piles each detection's credit on
+        the vehicle's own cell.
     """
 
     name = "hmm"
 
     def __init__(self, *, eps_d: float = 0.1, eps_c: float = 0.01, horizon: int = 10,
-                 radius: float = 5.0, stop_mass: float = 0.3, period: float = 1.0, target: str = "bisect"):
+                 radius: float = 5.0, stop_mass: float = 0.3, period: float = 1.0, target: str = "bisect",
+                 min_time: float = 60.0):
         super().__init__()
         if target not in ("bisect", "peak"):
             raise SearchError(f"target must be 'bisect' or 'peak'; got {target!r}")
@@ -114,6 +119,7 @@ class HMMSearch(_PlaneWalk):
         self.stop_mass = _positive("stop_mass", stop_mass, below_one=True)
         self.radius = _positive("radius", radius)
         self.period = _positive("period", period)
+        self.min_time = _positive("min_time", min_time)
         if isinstance(horizon, bool) or not isinstance(horizon, int) or horizon < 1:
             raise SearchError(f"horizon must be a positive whole number of cells; got {horizon!r}")
         self.horizon = horizon
@@ -121,7 +127,7 @@ class HMMSearch(_PlaneWalk):
     def params(self) -> dict:
         return dict(eps_d=self.eps_d, eps_c=self.eps_c, horizon=self.horizon,
                     radius=self.radius, stop_mass=self.stop_mass, period=self.period,
-                    target=self.target_rule)
+                    target=self.target_rule, min_time=self.min_time)
 
     def start(self, ctx: SearchContext) -> None:
         self._start_plane(ctx)
@@ -192,7 +198,7 @@ class HMMSearch(_PlaneWalk):
         est = b.estimate()
         self.status = Status(est, float(np.pi * self.radius ** 2),
                              extra=dict(map_mass=mass, detections=sum(e[2] for e in b.events)))
-        if mass >= self.stop_mass:
+        if mass >= self.stop_mass and self.time >= self.min_time:
             self.stop(StopReason.CONVERGED, f"map mass {mass:.2f} within {self.radius:g} m of its peak")
             return
         # replan on a detection, on reaching the goal cell, or when off the path

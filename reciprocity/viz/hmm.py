@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ..beliefs.hmm import HMMSourceMap, plume_map  # noqa: E402
-from ..models.hmm import CellGrid, transition  # noqa: E402
+from ..models.hmm import CellGrid, backtrack, transition, viterbi  # noqa: E402
 from ..worlds.filament import FilamentParams, FilamentPlume  # noqa: E402
 
 __all__ = ["draw_map", "farrell_figures", "plot_search"]
@@ -154,7 +154,6 @@ def farrell_figures(out, *, seed: int = 3, params: FilamentParams | None = None)
         trs.append(transition(grid, u, 1.0))
         if k == 43:
             snap44 = plume_snapshot(uniform)
-    from ..models.hmm import backtrack, viterbi
     end7 = grid.from_paper(388)
     _, psi = viterbi(np.eye(grid.N)[src], [t.bar() for t in trs[:44]])
     mlop = backtrack(psi, end7)

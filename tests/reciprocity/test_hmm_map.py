@@ -146,6 +146,11 @@ def test_slim_update_moves_mass_upflow_of_a_detection():
     est = b.estimate()
     assert est[0] < 60.0 and abs(est[1]) < 5.0     # upflow of the detection, on its line
     assert b.entropy() < np.log(g.N)
+    k = int(g.index((60.0, 1.0))[0])
+    odour, start = b.mlop(k)
+    assert odour[-1] == k and (np.diff(g.ij(odour)[0]) >= 0).all()     # carried downflow to C_k
+    cross = b.intersection(k)
+    assert cross["estimate"][0] <= 61.25 and k in cross["cells"]
     with pytest.raises(SearchError, match="wind"):
         b.update(Observation((60.0, 1.0), 0.0, kind="detection"))
 
