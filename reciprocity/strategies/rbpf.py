@@ -64,13 +64,20 @@ class RBPFStrategy(Strategy):
 
     Notes
     -----
-    Deviations from the paper, each named here:
+    Deviations from the paper, each named here with what was measured:
 
-    * eq. (44) is integrated in closed form (the paper integrates numerically);
-    * c of eq. (25) is held at its value at distance `min_distance` closer to a source;
-    * the map-dependent part of the motion prediction: a particle's failed or commanded
-      move along a link it draws as missing (Bernoulli(q)) leaves it in place, as the
-      true searcher does (the paper's eq. (45) does not say).
+    * eq. (44) is integrated in closed form (the paper integrates numerically); it
+      agrees with quadrature to 1e-7 (tests);
+    * c of eq. (25) is held at its value at distance `min_distance` (0.5) closer to a
+      source (the paper does not say how it treats the singularity); 0.01 instead made
+      no difference beyond noise (source (2, -5): 5/12 vs 6/12 runs reached it);
+    * a particle's failed or commanded move along a link it draws as missing
+      (Bernoulli(q)) leaves it in place, as the true searcher does (eq. (45) is silent);
+    * moves along links of probability exactly 1/2 are admissible, so the first move
+      (before any link was seen) is allowed; "stay" remains a control (``stay=False``
+      reached the source (0, 7) in 3/16 runs, as the default did).
+
+    Measured cost (N = 4000, M = 400): 8.8 ms CPU per step (propose + update).
     """
 
     name = "rbpf"
