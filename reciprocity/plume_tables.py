@@ -11,6 +11,24 @@ beside the paper's value.
   grid, λ/Δx = 1, R·Δt = 2 (Loisy & Eloy 2022, measured with otto's script).
 - :func:`run_hajieghrary_voi` — one searcher, three sharing every reading, three sharing
   by value of information (Hajieghrary, Mox & Hsieh 2017): time, success, messages.
+
+What differs from the papers, and why (measured 2026-11-23):
+
+- papers/002 prints Ω = {−3..3}·π/180 with T = 1: a heading change of at most 3° per
+  unit step, a turning radius of about 19 against R_s = 3. One-step policies then circle
+  the estimate for good (infotaxis 70 %, entrotaxis 46 % found within 20·L steps at
+  100²), which the paper does not report; with ±30° turns (Ω·π/18) every strategy finds
+  the source, so the table is run both ways (``world={"max_turn": 30}``).
+- With the printed α, β, γ the temperature term of eq. (8) varies 10²–10⁴ times less
+  across moves than the potential term (e.g. 2 vs 2750 at the start of song-100), so
+  free-energy infotaxis is in effect "chase the γ-weighted particle centroid": fastest
+  at 100², and it self-traps on wide areas as the paper's own T = 0 case (Fig. 6).
+- The paper gives the source and start of each scale only as "top left" and "bottom
+  right" and its rate only by reference; with ours (a third of the side from the
+  centre, wind along +x) the plume reaches the start's half of the area and our times
+  are 2–2.5 times shorter than Table 1 at every scale. Free energy is fastest at every
+  scale and infotaxis slowest from 150² on, as in the paper; mapless infotaxis and
+  entrotaxis trade places.
 """
 
 from __future__ import annotations
