@@ -5,6 +5,16 @@ steps *and* its true node lies in the support of its searcher-position particles
 that moment; the mean number of steps is over successful runs. Each run draws its own
 lattice (seeded); the paper's runs all used the lattice of its Fig. 2, which is not
 published.
+
+Measured (100 runs per row, N = 4000, M = 400, a lattice per run), success % with
+Wilson 95 % intervals: (0, 7) 31 [23, 41], (0, 1) 30 [22, 40], (2, -5) 38 [29, 48];
+A0 = 8 21 [14, 30], A0 = 16 15 [9, 23]; the paper has 94, 95, 99 and 78, 93. Why,
+from controlled runs: with the eq. (25) field as truth on the complete lattice and no
+slips the searcher reaches (0, 7) in 10/10 runs (36.8 steps); the same truth on a
+random lattice drops to 3/10 (myopic control trapped in dead ends); random lattices'
+shortest paths (median 22, 16, 10) exceed the paper's 20, 14, 8, which only 3 % of
+draws match; and the lattice truth differs from eq. (25) by factors 0.02 to 1.9 in
+the far field, depending on the lattice.
 """
 
 from __future__ import annotations
