@@ -26,9 +26,10 @@ What differs from the papers, and why (measured 2026-11-23):
 - The paper gives the source and start of each scale only as "top left" and "bottom
   right" and its rate only by reference; with ours (a third of the side from the
   centre, wind along +x) the plume reaches the start's half of the area and our times
-  are 2–2.5 times shorter than Table 1 at every scale. Free energy is fastest at every
-  scale and infotaxis slowest from 150² on, as in the paper; mapless infotaxis and
-  entrotaxis trade places.
+  are 2–4 times shorter than Table 1 (±30° turns). Free energy is fastest up to 200² as
+  in the paper, but its potential-driven chase self-traps from 300² on (1457 ± 516 steps
+  at 300², 55 % found at 350², 20 runs), where the paper has it fastest; infotaxis is
+  slowest at 150²–200² as in the paper, entrotaxis fastest from 250² on.
 """
 
 from __future__ import annotations
