@@ -44,12 +44,16 @@ def _params(items: list[str], flag: str = "--set", example: str = "eps=0.1") -> 
 
 
 def _progress(desc: str):
+    """A per-step progress bar on stderr: redrawn in place in a terminal, silent when
+    stderr is not one (a log file, CI)."""
     from tqdm import tqdm
-    bar = tqdm(desc=desc, unit="step", leave=False, file=sys.stderr)
+    bar = tqdm(desc=desc, unit="step", leave=False, file=sys.stderr, disable=not sys.stderr.isatty())
 
     def update(record):
-        area = record.get("region_area")
-        bar.set_postfix_str(f"area {area:.0f} cm²" if area is not None else f"reading {record['readings'][-1]:.0f}")
+        if record.region_area is not None:
+            bar.set_postfix_str(f"area {record.region_area:.0f} cm²")
+        elif len(record.readings):
+            bar.set_postfix_str(f"reading {record.readings[-1]:.3g}")
         bar.update(1)
     update.close = bar.close
     return update

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.tri import Triangulation
 
 from arenas import Arena, Floor
@@ -104,7 +105,24 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
         ax.plot(*src, "*", color="lime", mec="k", ms=11)
         area = sub.area(eps)
         ax.set_title(f"step {k}: area {area:.0f} cm², est. ({est[0]:.1f}, {est[1]:.1f})", fontsize=9)
+        ax.set_xlabel("x (cm)", fontsize=8)
+        ax.set_ylabel("y (cm)", fontsize=8)
     fig.colorbar(tpc, ax=fig.axes, shrink=0.8, label="imaging function $P_M$")
+    shown = "every step" if len(steps) == n else f"steps {', '.join(map(str, steps))} of {n}"
+    fig.suptitle(f"reciprocity search: {shown} ({n} measurements); region $P_M \\geq$ {eps:g}", fontsize=10)
+    handles = [
+        Line2D([], [], marker="*", ls="", color="lime", mec="k", ms=11, label="true source"),
+        Line2D([], [], marker="D", ls="", color="magenta", mec="k", ms=7, label="estimate"),
+        Line2D([], [], marker="x", ls="", color="k", ms=9, mew=2, label="next observation point"),
+        Line2D([], [], marker="o", ls="", mfc="none", mec="red", ms=7, mew=1.5, label="observation points"),
+        Line2D([], [], color="k", lw=1.2, label="newest level set $v_k = I_k$"),
+        Line2D([], [], color="w", lw=1.5, label=f"region $P_M \\geq$ {eps:g}"),
+        Line2D([], [], color="tab:blue", lw=1.2, label="path"),
+    ]
+    if len(_replans(episode.trace)):
+        handles.append(Line2D([], [], marker="o", ls="", mfc="none", mec="tab:blue", ms=4,
+                              label="re-plans (car)"))
+    fig.legend(handles=handles, loc="outside lower center", ncols=4, fontsize=8, facecolor="0.85")
     return fig
 
 
@@ -146,9 +164,22 @@ def gradient_run_figure(episode: Episode, field: Field | None, arena: Arena,
     if episode.summary["estimate"] is not None:
         ax.plot(*episode.summary["estimate"], "D", color="magenta", mec="k", ms=7)
     s = episode.summary
-    ax.set_title(f"gradient ascent: {s['n_measurements']} signal + "
-                 f"{(s['n_samples'] - s['n_measurements']) // 2} gradient measurements "
-                 f"({s['n_samples']} samples)", fontsize=9)
+    n_grad = sum(r["kind"] == "gradient" for r in episode.trace)
+    extra = s["n_samples"] - s["n_measurements"]
+    ax.set_title(f"gradient ascent: {s['n_measurements']} signal + {n_grad} gradients × 2 extra "
+                 f"= {s['n_measurements'] + extra} samples", fontsize=9)
+    ax.set_xlabel("x (cm)")
+    ax.set_ylabel("y (cm)")
+    handles = [
+        Line2D([], [], marker="*", ls="", color="lime", mec="k", ms=12, label="true source"),
+        Line2D([], [], marker="D", ls="", color="magenta", mec="k", ms=7, label="estimate"),
+        Line2D([], [], color="limegreen", lw=1.5, label="path"),
+        Line2D([], [], marker="o", ls="", mfc="none", mec="magenta", ms=7, mew=1.5, label="signal readings"),
+        Line2D([], [], marker=r"$\rightarrow$", ls="", color="red", ms=12, label="gradient estimates"),
+    ]
+    if len(replans):
+        handles.append(Line2D([], [], marker="o", ls="", mfc="none", mec="tab:blue", ms=4, label="re-plans"))
+    ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.85)
     return fig
 
 

@@ -10,6 +10,7 @@ episode's clock passes it, so a frame costs one copy plus the car and a few mark
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -492,13 +493,47 @@ def write_video(path, episode: Episode, arena: Arena, floor_image: np.ndarray, *
     times = _frame_times(line.end, fps, float(speedup))
 
     path.parent.mkdir(parents=True, exist_ok=True)
-    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), fps, layout.size)
+    frames = (renderer.render(float(t)) for t in tqdm(times, desc="video", unit="frame",
+                                                       disable=not progress, leave=False))
+    _encode(path, frames, layout.size, fps)
+    return path
+
+
+def _encode(path: Path, frames, size: tuple[int, int], fps: int) -> None:
+    """Write BGR frames as H.264 (yuv420p, which browsers play) through the ffmpeg that
+    imageio-ffmpeg ships; OpenCV's MPEG-4 Part 2 writer when that is not available."""
+    try:
+        import imageio_ffmpeg
+        imageio_ffmpeg.get_ffmpeg_exe()
+    except (ImportError, RuntimeError):
+        imageio_ffmpeg = None
+    if path.is_dir() or not os.access(path.parent, os.W_OK):
+        raise SearchError(f"cannot open {str(path)!r} for writing a video: it is a folder, or its "
+                          "folder is not writable")
+    if imageio_ffmpeg is not None:
+        w, h = size
+        even = (w + w % 2, h + h % 2)  # yuv420p needs even sides
+        writer = imageio_ffmpeg.write_frames(str(path), even, fps=fps, codec="libx264",
+                                             pix_fmt_out="yuv420p", quality=7, macro_block_size=1,
+                                             output_params=["-movflags", "+faststart"])
+        writer.send(None)
+        try:
+            for frame in frames:
+                rgb = np.ascontiguousarray(frame[:, :, ::-1])
+                if rgb.shape[:2] != (even[1], even[0]):
+                    rgb = np.pad(rgb, ((0, even[1] - h), (0, even[0] - w), (0, 0)), mode="edge")
+                writer.send(rgb)
+        except OSError as exc:
+            raise SearchError(f"cannot write the video {str(path)!r}: {str(exc).splitlines()[0]}") from None
+        finally:
+            writer.close()
+        return
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), fps, size)
     if not writer.isOpened():
         raise SearchError(f"cannot open {str(path)!r} for writing an mp4v video: check the "
                           "folder is writable and OpenCV was built with an MP4 encoder")
     try:
-        for t in tqdm(times, desc="video", unit="frame", disable=not progress, leave=False):
-            writer.write(renderer.render(float(t)))
+        for frame in frames:
+            writer.write(frame)
     finally:
         writer.release()
-    return path
