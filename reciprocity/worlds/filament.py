@@ -243,8 +243,10 @@ class FilamentWorld(World):
 
     def nominal(self) -> dict:
         """Region, cells, sampling rate and speed; never the source or the plume."""
+        x0, x1, y0, y1 = self.p.region
         return dict(region=tuple(self.p.region), cells=self.cells, sampling_rate=self.p.sampling_rate,
-                    speed=self.speed)
+                    speed=self.speed, bounds=((x0, x1), (y0, y1)),
+                    max_step=self.speed / self.p.sampling_rate)
 
     def describe(self) -> dict:
         return dict(release_rate=self.p.release_rate, threshold=self.p.threshold,
