@@ -1,18 +1,31 @@
-"""The (x, y, θ) grid and the rasterisation of free space."""
+"""The (x, y, θ) grid, the wall-distance raster of the domain and certified clearances.
+
+The planner knows the domain through one raster: the signed distance ``D``
+from each grid node to the nearest wall (positive in free space), taken from
+the arena's own geometry (``Arena.wall_distance`` and ``Arena.contains``) or,
+for rectangle bounds, from the distance to the four edges.  Since a distance
+function is 1-Lipschitz, any point ``p`` of a cell satisfies
+
+    d(p) >= L(p) = max over the cell's corners c of ( D(c) - |p - c| ),
+
+a lower bound on its true wall distance that is never optimistic.  A point is
+*certified* at clearance ``r`` when ``L(p) >= r``: it is then in free space at
+least ``r`` from every wall, whatever the shape of the walls between nodes.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
-from matplotlib.path import Path as MplPath
+from numba import njit
 
 from .errors import PlanningError
 
 
 @dataclass(frozen=True)
 class Grid:
-    """Uniform grid: ``x_i = x0 + i*h``, ``y_j = y0 + j*h``, ``θ_k = 2πk/ntheta``."""
+    """Uniform grid: ``x_i = x0 + i*h``, ``y_j = y0 + j*h``, ``θ_k = 2πk/ntheta`` (length unit of the domain)."""
 
     x0: float
     y0: float
@@ -23,87 +36,95 @@ class Grid:
 
     @property
     def dtheta(self) -> float:
+        """Angular step ``2π/ntheta`` (radians)."""
         return 2.0 * np.pi / self.ntheta
 
     @property
     def x(self) -> np.ndarray:
+        """Node abscissae (nx,)."""
         return self.x0 + self.h * np.arange(self.nx)
 
     @property
     def y(self) -> np.ndarray:
+        """Node ordinates (ny,)."""
         return self.y0 + self.h * np.arange(self.ny)
 
     @property
     def theta(self) -> np.ndarray:
+        """Grid headings (ntheta,), radians."""
         return self.dtheta * np.arange(self.ntheta)
 
     @property
     def x1(self) -> float:
+        """Largest abscissa."""
         return self.x0 + self.h * (self.nx - 1)
 
     @property
     def y1(self) -> float:
+        """Largest ordinate."""
         return self.y0 + self.h * (self.ny - 1)
 
-
-def _segments(polygon: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    polygon = np.asarray(polygon, dtype=float)
-    return polygon, np.roll(polygon, -1, axis=0)
-
-
-def distance_to_polygon_edges(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
-    """Euclidean distance from each of ``points`` (n, 2) to the edges of ``polygon`` (m, 2)."""
-    a, b = _segments(polygon)
-    out = np.full(len(points), np.inf)
-    for pa, pb in zip(a, b):
-        ab = pb - pa
-        denom = float(ab @ ab)
-        ap = points - pa
-        t = np.clip(ap @ ab / denom, 0.0, 1.0) if denom > 0 else np.zeros(len(points))
-        out = np.minimum(out, np.hypot(ap[:, 0] - t * ab[0], ap[:, 1] - t * ab[1]))
-    return out
+    def nodes(self) -> np.ndarray:
+        """Node positions (nx * ny, 2), x index first."""
+        gx, gy = np.meshgrid(self.x, self.y, indexing="ij")
+        return np.column_stack([gx.ravel(), gy.ravel()])
 
 
-def check_polygon(polygon, what: str) -> np.ndarray:
-    polygon = np.asarray(polygon, dtype=float)
-    if polygon.ndim != 2 or polygon.shape[1] != 2 or len(polygon) < 3 or not np.all(np.isfinite(polygon)):
-        raise PlanningError(f"{what} must be an (n, 2) array of finite vertices with n >= 3, got shape {polygon.shape}")
-    return polygon
+def is_arena(domain) -> bool:
+    """Whether ``domain`` offers the arena geometry the planner uses (an ``arenas.Arena``)."""
+    return all(hasattr(domain, name) for name in ("boundary", "obstacles", "contains", "wall_distance"))
 
 
-def free_space(points: np.ndarray, boundary, obstacles, clearance: float) -> np.ndarray:
-    """Mask of ``points`` inside ``boundary``, outside ``obstacles``, at least ``clearance`` from every edge."""
-    free = MplPath(boundary).contains_points(points)
-    for obstacle in obstacles:
-        free &= ~MplPath(obstacle).contains_points(points)
-    if clearance > 0:
-        for polygon in [boundary, *obstacles]:
-            free &= distance_to_polygon_edges(points, polygon) >= clearance
-    return free
-
-
-def make_grid(domain, h: float, ntheta: int, clearance: float) -> tuple[Grid, np.ndarray, str, dict]:
-    """Grid, free-node mask (nx, ny) and a description of ``domain``.
-
-    ``domain`` is rectangle bounds ``((x0, x1), (y0, y1))`` or an object with
-    ``boundary``, ``obstacles`` and ``name`` attributes (an ``arenas.Arena``).
-    """
+def _rectangle(domain) -> tuple[float, float, float, float]:
     if hasattr(domain, "boundary"):
-        boundary = check_polygon(domain.boundary, "arena boundary")
-        obstacles = [check_polygon(o, "arena obstacle") for o in getattr(domain, "obstacles", [])]
-        name = str(getattr(domain, "name", "arena"))
-        (x0, y0), (x1, y1) = boundary.min(axis=0), boundary.max(axis=0)
+        raise PlanningError(
+            f"domain {getattr(domain, 'name', domain)!r} has polygons but no contains/wall_distance methods; "
+            "build it with arenas.Arena.from_polygons(boundary, obstacles)")
+    try:
+        (x0, x1), (y0, y1) = np.asarray(domain, dtype=float)
+    except (TypeError, ValueError):
+        raise PlanningError(
+            f"domain must be an arenas.Arena or rectangle bounds ((x0, x1), (y0, y1)), got {domain!r}") from None
+    if not (np.isfinite([x0, x1, y0, y1]).all() and x1 > x0 and y1 > y0):
+        raise PlanningError(f"rectangle bounds need finite x0 < x1 and y0 < y1, got {domain!r}")
+    return float(x0), float(x1), float(y0), float(y1)
+
+
+def domain_geometry(domain) -> dict:
+    """``name``, ``boundary`` and ``obstacles`` polygons of ``domain`` (for metadata, cache keys and plots).
+
+    Raises
+    ------
+    PlanningError
+        If ``domain`` is neither an arena nor valid rectangle bounds.
+    """
+    if is_arena(domain):
+        return {"name": str(getattr(domain, "name", "arena")),
+                "boundary": np.asarray(domain.boundary, dtype=float),
+                "obstacles": [np.asarray(o, dtype=float) for o in domain.obstacles]}
+    x0, x1, y0, y1 = _rectangle(domain)
+    return {"name": f"rect[{x0:g},{x1:g}]x[{y0:g},{y1:g}]",
+            "boundary": np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]), "obstacles": []}
+
+
+def make_grid(domain, h: float, ntheta: int, clearance: float) -> tuple[Grid, np.ndarray, np.ndarray]:
+    """Grid, signed wall-distance raster ``D`` (nx, ny) and free-node mask (nx, ny) of ``domain``.
+
+    ``domain`` is an ``arenas.Arena`` -- its ``contains`` and ``wall_distance``
+    decide which nodes are free -- or rectangle bounds ``((x0, x1), (y0, y1))``
+    whose edges are walls (nodes on them are free when ``clearance`` is 0).
+    A node is free when it is in free space at least ``clearance`` from every
+    wall.  ``D`` is negative at nodes outside the free space.
+
+    Raises
+    ------
+    PlanningError
+        On an invalid domain, or a grid too coarse or too large for it.
+    """
+    if is_arena(domain):
+        (x0, y0), (x1, y1) = np.min(domain.boundary, axis=0), np.max(domain.boundary, axis=0)
     else:
-        try:
-            (x0, x1), (y0, y1) = np.asarray(domain, dtype=float)
-        except (TypeError, ValueError):
-            raise PlanningError(
-                f"domain must be an Arena or rectangle bounds ((x0, x1), (y0, y1)), got {domain!r}") from None
-        if not (np.isfinite([x0, x1, y0, y1]).all() and x1 > x0 and y1 > y0):
-            raise PlanningError(f"rectangle bounds need finite x0 < x1 and y0 < y1, got {domain!r}")
-        boundary = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
-        obstacles = []
-        name = f"rect[{x0:g},{x1:g}]x[{y0:g},{y1:g}]"
+        x0, x1, y0, y1 = _rectangle(domain)
     nx = int(np.floor((x1 - x0) / h + 1e-9)) + 1
     ny = int(np.floor((y1 - y0) / h + 1e-9)) + 1
     if nx < 4 or ny < 4:
@@ -111,14 +132,38 @@ def make_grid(domain, h: float, ntheta: int, clearance: float) -> tuple[Grid, np
     if nx * ny * ntheta > 200_000_000:
         raise PlanningError(f"grid of {nx} x {ny} x {ntheta} nodes is too large; increase h or reduce ntheta")
     grid = Grid(float(x0), float(y0), float(h), nx, ny, int(ntheta))
-    gx, gy = np.meshgrid(grid.x, grid.y, indexing="ij")
-    points = np.column_stack([gx.ravel(), gy.ravel()])
-    if hasattr(domain, "boundary"):
-        free = free_space(points, boundary, obstacles, clearance).reshape(nx, ny)
+    points = grid.nodes()
+    if is_arena(domain):
+        inside = np.asarray(domain.contains(points), dtype=bool)
+        distance = np.where(inside, 1.0, -1.0) * np.asarray(domain.wall_distance(points), dtype=float)
+        free = np.asarray(domain.contains(points, clearance), dtype=bool) if clearance > 0 else inside
     else:
-        # The rectangle's own edges are walls too; nodes on them are free.
-        free = np.ones((nx, ny), dtype=bool)
-        if clearance > 0:
-            free &= (gx - x0 >= clearance) & (x1 - gx >= clearance) & (gy - y0 >= clearance) & (y1 - gy >= clearance)
-    geometry = {"boundary": boundary, "obstacles": obstacles, "name": name}
-    return grid, free, name, geometry
+        distance = np.min([points[:, 0] - x0, x1 - points[:, 0], points[:, 1] - y0, y1 - points[:, 1]], axis=0)
+        free = distance >= clearance
+    return grid, distance.reshape(nx, ny), free.reshape(nx, ny)
+
+
+@njit(cache=True, nogil=True)
+def lower_wall_distance(distance, x0, y0, h, xs, ys):
+    """Certified lower bound ``L(p)`` of the wall distance at each point (see the module notes).
+
+    ``-inf`` outside the grid.
+    """
+    nx, ny = distance.shape
+    out = np.empty(xs.shape[0])
+    for m in range(xs.shape[0]):
+        gx = (xs[m] - x0) / h
+        gy = (ys[m] - y0) / h
+        if not (gx >= -1e-9 and gx <= nx - 1 + 1e-9 and gy >= -1e-9 and gy <= ny - 1 + 1e-9):
+            out[m] = -np.inf
+            continue
+        i = min(max(int(np.floor(gx)), 0), nx - 2)
+        j = min(max(int(np.floor(gy)), 0), ny - 2)
+        best = -np.inf
+        for a in range(2):
+            for b in range(2):
+                bound = distance[i + a, j + b] - h * np.hypot(gx - i - a, gy - j - b)
+                if bound > best:
+                    best = bound
+        out[m] = best
+    return out

@@ -42,14 +42,15 @@ BLOCK = 8  # side of the (x, y) blocks whose changes are tracked, in nodes
 
 
 @njit(cache=True, nogil=True)
-def _update_layer(phi, free, bc, k, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, active, tol, sweep,
+def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, active, tol, sweep,
                   changed):
     """One Gauss-Seidel pass over layer ``k`` of the padded array, only in ``active`` blocks.
 
-    Candidate of stencil c: ``(cost + Σ_ab w_ab φ_foot,ab) * inv_self`` where
-    a weight on the node itself (straight steps shorter than the cell
-    diagonal) is moved to the left-hand side.  Sets ``changed[k, bi, bj] =
-    sweep`` where some node decreased by more than ``tol``.
+    Candidate of stencil c, if its arc is clear of the walls (bit c of
+    ``adm``): ``(cost + Σ_ab w_ab φ_foot,ab) * inv_self`` where a weight on
+    the node itself (straight steps shorter than the cell diagonal) is moved
+    to the left-hand side.  Sets ``changed[k, bi, bj] = sweep`` where some
+    node decreased by more than ``tol``.
     """
     nt, nxp, nyp = phi.shape
     nx, ny = nxp - 2 * pad, nyp - 2 * pad
@@ -60,11 +61,14 @@ def _update_layer(phi, free, bc, k, off_i, off_j, w, inv_self, kk, cost, rev_i, 
         for q in range(ny):
             j = ny - 1 - q if rev_j else q
             bj = j // BLOCK
-            if not active[bi, bj] or not free[i, j]:
+            bits = adm[k, i, j]
+            if bits == 0 or not active[bi, bj]:
                 continue
             ip, jp = i + pad, j + pad
             best = bc[k, i, j]
             for c in range(nc):
+                if not (bits >> c) & 1:
+                    continue
                 kc = kk[k, c]
                 a = ip + off_i[k, c]
                 b = jp + off_j[k, c]
@@ -79,6 +83,51 @@ def _update_layer(phi, free, bc, k, off_i, off_j, w, inv_self, kk, cost, rev_i, 
                 phi[k, ip, jp] = best
                 if old - best > tol:
                     changed[k, bi, bj] = sweep
+
+
+@njit(cache=True, nogil=True)
+def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach):
+    """Bitmask (ntheta, nx, ny) of the stencils whose arc is clear of the walls.
+
+    Bit c of ``adm[k, i, j]`` is set when the arc of control c from the free
+    node (i, j) at heading k stays at the clearance: either the node is
+    farther than ``clearance + reach[c]`` from every wall (the arc is
+    shorter than ``reach[c]``), or every sample m of the arc, in cell
+    ``(i + ci, j + cj)`` at ``corner_dist`` from its corners, has a
+    certified wall distance of at least ``margin[c]``.
+    """
+    nt, nc, nm = ci.shape
+    nx, ny = distance.shape
+    adm = np.zeros((nt, nx, ny), np.uint32)
+    for i in range(nx):
+        for j in range(ny):
+            if not free[i, j]:
+                continue
+            d0 = distance[i, j]
+            for k in range(nt):
+                bits = np.uint32(0)
+                for c in range(nc):
+                    ok = d0 >= clearance + reach[c]
+                    if not ok:
+                        ok = True
+                        for m in range(nm):
+                            a = i + ci[k, c, m]
+                            b = j + cj[k, c, m]
+                            if a < 0 or b < 0 or a > nx - 2 or b > ny - 2:
+                                ok = False
+                                break
+                            bound = -np.inf
+                            for corner in range(4):
+                                value = distance[a + corner // 2, b + corner % 2] - corner_dist[k, c, m, corner]
+                                if value > bound:
+                                    bound = value
+                            if bound < margin[c]:
+                                ok = False
+                                break
+                    if ok:
+                        bits |= np.uint32(1) << np.uint32(c)
+                adm[k, i, j] = bits
+    return adm
 
 
 @njit(cache=True, nogil=True)
@@ -109,7 +158,7 @@ def _layer_is_active(k, kk, reach, changed, computed, active):
 
 
 @njit(cache=True, nogil=True)
-def _sweep_layers(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, reach, tol, sweep,
+def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, reach, tol, sweep,
                   changed, computed, active, order):
     """Sweep the layers in ``order``; returns how many layers had active blocks."""
     n_run = 0
@@ -117,7 +166,7 @@ def _sweep_layers(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev
         if _layer_is_active(k, kk, reach, changed, computed, active) == 0:
             continue
         n_run += 1
-        _update_layer(phi, free, bc, k, off_i, off_j, w, inv_self, kk, cost, rev_i[k], rev_j[k], pad, active, tol,
+        _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i[k], rev_j[k], pad, active, tol,
                       sweep, changed)
         for bi in range(active.shape[0]):
             for bj in range(active.shape[1]):
@@ -126,11 +175,12 @@ def _sweep_layers(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev
     return n_run
 
 
-def solve_sweeps(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, tol, max_sweeps, nthreads):
+def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, tol, max_sweeps, nthreads):
     """Iterate Gauss-Seidel sweeps until no value decreases by more than ``tol``.
 
     ``phi`` (ntheta, nx + 2 pad, ny + 2 pad) is updated in place; its border
-    and blocked nodes hold BIG.  Values only decrease from the initial data,
+    and blocked nodes hold BIG, so that a foot in a cell with a blocked
+    corner gives no candidate; ``adm`` is the bitmask of :func:`stencil_masks`.  Values only decrease from the initial data,
     so the iteration is monotone, and it converges under any (even
     asynchronous) order of the updates: ``nthreads`` threads (the kernels
     release the GIL) sweep disjoint groups of layers concurrently.  Sweeps
@@ -148,7 +198,7 @@ def solve_sweeps(phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_
     computed = np.full((nt, nbx, nby), -2, np.int64)  # sweep of the last computation
     nthreads = max(1, min(int(nthreads), nt))
     active = np.zeros((nthreads, nbx, nby), np.bool_)
-    args = (phi, free, bc, off_i, off_j, w, inv_self, kk, cost, rev_i, rev_j, pad, reach, float(tol))
+    args = (phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, reach, float(tol))
 
     def run(group, sweep):
         start, stop = (group * nt) // nthreads, ((group + 1) * nt) // nthreads
@@ -185,11 +235,15 @@ def _cubic_weights(t, w):
 
 
 @njit(cache=True, nogil=True)
-def interpolate(phi, x0, y0, h, xs, ys, ths, cubic):
+def interpolate(phi, free, certified, x0, y0, h, xs, ys, ths, cubic, lenient):
     """φ at arbitrary poses: tricubic (Catmull-Rom, periodic in θ) or trilinear.
 
-    Where the cubic stencil touches +inf the trilinear value is used, and where
-    that touches +inf the result is +inf.  Poses outside the grid give +inf.
+    The trilinear value is +inf if a corner of the pose's cell is blocked
+    (not ``free``), as at the feet of the scheme's stencils, or +inf;
+    with ``lenient``, unreached free corners are left out and the weights
+    of the others renormalised.  Where the cubic stencil touches a +inf
+    node the trilinear value is used.  Poses outside the grid or not
+    ``certified`` (outside free space or its clearance) give +inf.
     """
     nt, nx, ny = phi.shape
     n = xs.shape[0]
@@ -201,7 +255,7 @@ def interpolate(phi, x0, y0, h, xs, ys, ths, cubic):
     for m in range(n):
         gx = (xs[m] - x0) / h
         gy = (ys[m] - y0) / h
-        if not (gx >= -1e-9 and gx <= nx - 1 + 1e-9 and gy >= -1e-9 and gy <= ny - 1 + 1e-9):
+        if not (certified[m] and gx >= -1e-9 and gx <= nx - 1 + 1e-9 and gy >= -1e-9 and gy <= ny - 1 + 1e-9):
             out[m] = INF
             continue
         gt = (ths[m] / dth) % nt
@@ -211,27 +265,32 @@ def interpolate(phi, x0, y0, h, xs, ys, ths, cubic):
         fx = gx - i
         fy = gy - j
         ft = gt - np.floor(gt)
-        # trilinear
+        # trilinear; with lenient, over the reached corners only
         lin = 0.0
+        total = 0.0
         for c in range(2):
             wt = ft if c == 1 else 1.0 - ft
-            if wt <= 0.0:
-                continue
             kc = (k + c) % nt
             for a in range(2):
                 wa = fx if a == 1 else 1.0 - fx
-                if wa <= 0.0:
-                    continue
                 for b in range(2):
                     wb = fy if b == 1 else 1.0 - fy
-                    if wb <= 0.0:
+                    weight = wt * wa * wb
+                    if weight <= 0.0:
                         continue
                     v = phi[kc, i + a, j + b]
-                    if v == INF:
+                    if not free[i + a, j + b] or (v == INF and not lenient):
                         lin = INF
-                    elif lin < INF:
-                        lin += wt * wa * wb * v
-        if lin == INF or not cubic or i < 1 or j < 1 or i > nx - 3 or j > ny - 3:
+                    if v == INF:
+                        continue
+                    if lin < INF:
+                        lin += weight * v
+                        total += weight
+        if lin == INF or total <= 0.0:
+            out[m] = INF
+            continue
+        lin /= total
+        if not cubic or i < 1 or j < 1 or i > nx - 3 or j > ny - 3:
             out[m] = lin
             continue
         _cubic_weights(fx, wxc)

@@ -3,6 +3,13 @@
 Landa et al. (section VI) precompute value functions for about 100 targets
 12.7 cm apart on the 140 x 140 cm floor and steer towards any requested
 target with the nearest precomputed one.
+
+A bank lives in its own folder ``<cache>/<key>/`` of the cache directory
+(:func:`default_cache_dir`): one compressed ``.npz`` per target and a
+``bank.json`` describing the domain and the parameters.  The key hashes the
+domain's geometry and every parameter that changes the values, so whoever
+asks for the same bank -- the ``hjplanner bank`` command or a program --
+finds the same files.
 """
 
 from __future__ import annotations
@@ -11,67 +18,48 @@ import hashlib
 import json
 import multiprocessing
 import os
+import re
+import shutil
+import time
 from collections import OrderedDict
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ._grid import check_polygon, make_grid
+from ._grid import Grid, make_grid
 from .errors import PlanningError
-from .solver import SolverOptions, _target_is_free, solve
+from .solver import SolverOptions, Workspace, prepare, solve_in, target_is_free
 from .value_function import ValueFunction
 
-__all__ = ["ValueFunctionBank", "OnDemandPlanner", "lattice_targets"]
+__all__ = ["ValueFunctionBank", "OnDemandPlanner", "lattice_targets", "default_cache_dir", "cache_info",
+           "clear_cache"]
 
-CACHE_VERSION = 1
-
-
-@dataclass(frozen=True)
-class _Geometry:
-    """Picklable stand-in for an arena: only what :func:`solve` reads."""
-
-    boundary: np.ndarray
-    obstacles: tuple
-    name: str
+CACHE_VERSION = 2
+MANIFEST = "bank.json"
+#: Files of the first cache layout (float64 values, one flat folder): unusable now, removed by clear_cache.
+_LEGACY = re.compile(r"^[0-9a-f]{20}_\d{4}_.*\.npz$")
 
 
-def _geometry_of(domain) -> _Geometry | tuple:
-    if hasattr(domain, "boundary"):
-        return _Geometry(check_polygon(domain.boundary, "arena boundary"),
-                         tuple(check_polygon(o, "arena obstacle") for o in getattr(domain, "obstacles", [])),
-                         str(getattr(domain, "name", "arena")))
-    try:
-        (x0, x1), (y0, y1) = np.asarray(domain, dtype=float)
-    except (TypeError, ValueError):
-        raise PlanningError(
-            f"domain must be an Arena or rectangle bounds ((x0, x1), (y0, y1)), got {domain!r}") from None
-    return ((float(x0), float(x1)), (float(y0), float(y1)))
+def default_cache_dir() -> Path:
+    """Where banks are kept: ``$HJPLANNER_CACHE`` if set, else ``~/.cache/hjplanner``."""
+    env = os.environ.get("HJPLANNER_CACHE")
+    return Path(env).expanduser() if env else Path.home() / ".cache" / "hjplanner"
 
 
-def _digest(geometry, params: dict) -> str:
-    """Hash of the domain geometry and the solver parameters (the cache key)."""
+def _digest(geometry: dict, params: dict) -> str:
+    """Hash of the domain's polygons and the parameters (the bank's folder name)."""
     sha = hashlib.sha256()
     sha.update(json.dumps(dict(params, version=CACHE_VERSION), sort_keys=True).encode())
-    if isinstance(geometry, _Geometry):
-        for polygon in (geometry.boundary, *geometry.obstacles):
-            sha.update(np.ascontiguousarray(polygon, dtype="<f8").tobytes())
-            sha.update(b"|")
-    else:
-        sha.update(repr(geometry).encode())
+    for polygon in (geometry["boundary"], *geometry["obstacles"]):
+        sha.update(np.ascontiguousarray(polygon, dtype="<f8").tobytes())
+        sha.update(b"|")
     return sha.hexdigest()[:20]
 
 
-def lattice_targets(domain, spacing: float, *, h: float = 1.0, clearance: float = 0.0) -> np.ndarray:
-    """Targets on a square lattice of ``spacing``, centred in the bounding box, in free space.
-
-    Returns an (n, 2) array.  Free means that the grid cell holding the
-    target is free at spacing ``h`` after inflating obstacles by ``clearance``.
-    """
+def _lattice(grid: Grid, free: np.ndarray, spacing: float) -> np.ndarray:
     if not (np.isfinite(spacing) and spacing > 0):
-        raise PlanningError(f"spacing must be positive, got {spacing!r}")
-    grid, free, _, _ = make_grid(domain, h, 8, clearance)
+        raise PlanningError(f"spacing must be a positive number, got {spacing!r}")
     axes = []
     for lo, hi in ((grid.x0, grid.x1), (grid.y0, grid.y1)):
         n = max(int(np.floor((hi - lo) / spacing)), 1)
@@ -79,14 +67,45 @@ def lattice_targets(domain, spacing: float, *, h: float = 1.0, clearance: float 
         axes.append(lo + margin + spacing * np.arange(n))
     gx, gy = np.meshgrid(*axes, indexing="ij")
     points = np.column_stack([gx.ravel(), gy.ravel()])
-    keep = [_target_is_free(grid, free, x, y) for x, y in points]
+    keep = [target_is_free(grid, free, x, y) for x, y in points]
     return points[np.asarray(keep, dtype=bool)]
 
 
-def _solve_to_file(geometry, target, params: dict, path: str) -> str:
-    """Worker: solve one target and save it (runs in a child process)."""
-    options = SolverOptions(**params.pop("options"))
-    vf = solve(geometry, tuple(target), **params, options=options)
+def lattice_targets(domain, spacing: float, *, h: float = 1.0, clearance: float = 0.0) -> np.ndarray:
+    """Targets on a square lattice of ``spacing``, centred in the bounding box, in free space.
+
+    Parameters
+    ----------
+    domain : arenas.Arena or ((float, float), (float, float))
+        As in :func:`hjplanner.solve`.
+    spacing : float
+        Lattice spacing (length unit), > 0.
+    h : float, optional
+        Grid spacing deciding what is free.
+    clearance : float, optional
+        Required distance from every wall (length unit).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, 2) targets whose grid cell at spacing ``h`` has only free nodes.
+    """
+    grid, _, free = make_grid(domain, float(h), 8, float(clearance))
+    return _lattice(grid, free, spacing)
+
+
+_WORKSPACE: Workspace | None = None
+
+
+def _set_workspace(ws: Workspace) -> None:
+    """Process-pool initializer: each worker receives the workspace once."""
+    global _WORKSPACE
+    _WORKSPACE = ws
+
+
+def _solve_to_file(target, path: str, ws: Workspace | None = None) -> str:
+    """Solve one target and save it atomically (in a worker process, or here with ``ws``)."""
+    vf = solve_in(ws or _WORKSPACE, tuple(target))
     tmp = f"{path}.{os.getpid()}.tmp"
     vf.save(tmp)
     os.replace(tmp, path)
@@ -98,16 +117,18 @@ class ValueFunctionBank:
 
     Parameters
     ----------
-    domain : Arena or ((float, float), (float, float))
+    domain : arenas.Arena or ((float, float), (float, float))
         As in :func:`hjplanner.solve`.
     spacing : float
         Lattice spacing of the targets (length unit; the paper: 12.7 cm).
-    rho, h, ntheta, clearance, reverse
-        Passed to :func:`hjplanner.solve`.
+    rho, h, ntheta, clearance, reverse, options
+        Passed to :func:`hjplanner.solve`.  ``options.threads`` does not
+        change the bank (each worker process sweeps with one thread).
     cache_dir : str or Path, optional
-        Directory of the ``.npz`` files; default ``~/.cache/hjplanner``.  The
-        file names hash the arena geometry and every solver parameter, so a
-        changed arena or parameter never reuses stale files.
+        Cache directory; default :func:`default_cache_dir`.  The bank's
+        files are in its subfolder :attr:`directory`, named by a hash of the
+        domain's geometry and of every other parameter, so a changed arena
+        or parameter never reuses stale files.
     memory : int, optional
         How many loaded value functions to keep in memory (LRU).
 
@@ -122,57 +143,67 @@ class ValueFunctionBank:
     def __init__(self, domain, spacing: float, *, rho: float, h: float, ntheta: int, clearance: float = 0.0,
                  reverse: bool = False, options: SolverOptions | None = None, cache_dir: str | Path | None = None,
                  memory: int = 8):
-        self.geometry = _geometry_of(domain)
-        self.targets = lattice_targets(self.geometry, spacing, h=h, clearance=clearance)
+        options = options or SolverOptions()
+        self.workspace = prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options)
+        self.targets = _lattice(self.workspace.grid, self.workspace.free, spacing)
         if len(self.targets) == 0:
             raise PlanningError(f"no free target on a lattice of spacing {spacing:g}; reduce the spacing")
-        self.options = options or SolverOptions()
+        numerics = {k: v for k, v in options.as_dict().items() if k != "threads"}
         self.params = dict(rho=float(rho), h=float(h), ntheta=int(ntheta), clearance=float(clearance),
-                           reverse=bool(reverse))
-        self.key = _digest(self.geometry, dict(self.params, options=self.options.as_dict(), spacing=float(spacing)))
-        self.cache_dir = Path(cache_dir) if cache_dir is not None else Path.home() / ".cache" / "hjplanner"
+                           reverse=bool(reverse), spacing=float(spacing), options=numerics)
+        self.key = _digest(self.workspace.geometry, self.params)
+        self.cache_dir = Path(cache_dir).expanduser() if cache_dir is not None else default_cache_dir()
         self._memory = OrderedDict()
         self._memory_size = int(memory)
 
+    @property
+    def directory(self) -> Path:
+        """Folder of this bank's files in the cache."""
+        return self.cache_dir / self.key
+
     def path_of(self, index: int) -> Path:
         """Cache file of target ``index``."""
-        x, y = self.targets[index]
-        return self.cache_dir / f"{self.key}_{index:04d}_{x:.4g}_{y:.4g}.npz"
+        return self.directory / f"{index:04d}.npz"
 
     def missing(self) -> list[int]:
         """Indices of targets not yet in the cache."""
         return [i for i in range(len(self.targets)) if not self.path_of(i).exists()]
 
+    def _write_manifest(self) -> None:
+        self.directory.mkdir(parents=True, exist_ok=True)
+        manifest = dict(version=CACHE_VERSION, domain=self.workspace.geometry["name"], params=self.params,
+                        targets=self.targets.tolist())
+        (self.directory / MANIFEST).write_text(json.dumps(manifest, indent=1))
+
     def build(self, workers: int | None = None, progress: bool = True) -> float:
         """Solve every missing target, in parallel processes; returns the wall time (s).
 
-        Each process sweeps with one thread, ``workers`` defaults to the
-        number of CPUs.  Progress is shown with a tqdm bar.
+        Each process sweeps with one thread and receives the prepared
+        workspace (grid, free space, clear stencils) once; ``workers``
+        defaults to the number of CPUs.  Progress is shown with a tqdm bar.
         """
-        import time
-
         from tqdm import tqdm
 
         t0 = time.perf_counter()
-        self.cache_dir.mkdir(parents=True, exist_ok=True)
+        self._write_manifest()
         todo = self.missing()
         workers = max(1, min(workers or os.cpu_count() or 1, len(todo) or 1))
-        options = self.options.as_dict()
+        ws = self.workspace
         if workers > 1:
-            options["threads"] = 1
-        jobs = [(self.geometry, tuple(self.targets[i]), dict(self.params, options=dict(options)), str(self.path_of(i)))
-                for i in todo]
-        bar = tqdm(total=len(jobs), desc=f"value functions ({self.key[:8]})", disable=not progress, unit="vf")
+            ws = Workspace(**{**vars(ws), "options": SolverOptions(**dict(ws.options.as_dict(), threads=1))})
+        bar = tqdm(total=len(todo), desc=f"value functions ({self.key[:8]})", disable=not progress, unit="vf")
         try:
             if workers == 1:
-                for job in jobs:
-                    _solve_to_file(*job)
+                for i in todo:
+                    _solve_to_file(self.targets[i], str(self.path_of(i)), ws)
                     bar.update()
             else:
                 # spawn: no inherited threads or locks from the parent, the same on every OS.
                 context = multiprocessing.get_context("spawn")
-                with ProcessPoolExecutor(workers, mp_context=context) as pool:
-                    for future in as_completed([pool.submit(_solve_to_file, *job) for job in jobs]):
+                with ProcessPoolExecutor(workers, mp_context=context, initializer=_set_workspace,
+                                         initargs=(ws,)) as pool:
+                    jobs = [pool.submit(_solve_to_file, self.targets[i], str(self.path_of(i))) for i in todo]
+                    for future in as_completed(jobs):
                         future.result()
                         bar.update()
         finally:
@@ -194,9 +225,8 @@ class ValueFunctionBank:
             return self._memory[index]
         path = self.path_of(index)
         if not path.exists():
-            self.cache_dir.mkdir(parents=True, exist_ok=True)
-            _solve_to_file(self.geometry, tuple(self.targets[index]),
-                           dict(self.params, options=self.options.as_dict()), str(path))
+            self._write_manifest()
+            _solve_to_file(self.targets[index], str(path), self.workspace)
         vf = ValueFunction.load(path)
         self._memory[index] = vf
         while len(self._memory) > self._memory_size:
@@ -207,8 +237,55 @@ class ValueFunctionBank:
         return len(self.targets)
 
 
+def cache_info(cache_dir: str | Path | None = None) -> list[dict]:
+    """The banks in a cache directory (default :func:`default_cache_dir`).
+
+    Returns
+    -------
+    list of dict
+        One entry per bank folder: ``key``, ``domain``, ``params``,
+        ``files`` (value functions present), ``targets`` and ``bytes``; and,
+        if any, one entry with key ``"legacy"`` for files of the first cache
+        layout, which are no longer read.
+    """
+    root = Path(cache_dir).expanduser() if cache_dir is not None else default_cache_dir()
+    out = []
+    if not root.is_dir():
+        return out
+    for folder in sorted(p for p in root.iterdir() if (p / MANIFEST).is_file()):
+        manifest = json.loads((folder / MANIFEST).read_text())
+        files = list(folder.glob("*.npz"))
+        out.append(dict(key=folder.name, domain=manifest.get("domain"), params=manifest.get("params"),
+                        files=len(files), targets=len(manifest.get("targets", [])),
+                        bytes=sum(f.stat().st_size for f in folder.iterdir() if f.is_file())))
+    legacy = [p for p in root.iterdir() if p.is_file() and _LEGACY.match(p.name)]
+    if legacy:
+        out.append(dict(key="legacy", domain=None, params=None, files=len(legacy), targets=None,
+                        bytes=sum(p.stat().st_size for p in legacy)))
+    return out
+
+
+def clear_cache(cache_dir: str | Path | None = None) -> int:
+    """Delete the banks (and legacy files) of a cache directory; returns the bytes freed.
+
+    Only hjplanner's own files are removed: bank folders holding a
+    ``bank.json`` and files of the first cache layout.
+    """
+    root = Path(cache_dir).expanduser() if cache_dir is not None else default_cache_dir()
+    freed = sum(entry["bytes"] for entry in cache_info(root))
+    if root.is_dir():
+        for folder in [p for p in root.iterdir() if (p / MANIFEST).is_file()]:
+            shutil.rmtree(folder)
+        for legacy in [p for p in root.iterdir() if p.is_file() and _LEGACY.match(p.name)]:
+            legacy.unlink()
+    return freed
+
+
 class OnDemandPlanner:
     """Solves for the exact requested target, keeping the last few in memory (LRU).
+
+    The target-independent part of the solve (grid, free space, clear
+    stencils) is prepared once.
 
     Parameters
     ----------
@@ -223,8 +300,7 @@ class OnDemandPlanner:
     def __init__(self, domain, *, rho: float, h: float, ntheta: int, clearance: float = 0.0,
                  reverse: bool = False, options: SolverOptions | None = None, maxsize: int = 4,
                  resolution: float | None = None):
-        self.domain = domain
-        self.kwargs = dict(rho=rho, h=h, ntheta=ntheta, clearance=clearance, reverse=reverse, options=options)
+        self.workspace = prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options)
         self.maxsize = int(maxsize)
         self.resolution = float(resolution) if resolution is not None else 0.1 * float(h)
         self._cache = OrderedDict()
@@ -242,7 +318,7 @@ class OnDemandPlanner:
             self._cache.move_to_end(key)
             return self._cache[key]
         self.misses += 1
-        vf = solve(self.domain, tuple(t), **self.kwargs)
+        vf = solve_in(self.workspace, tuple(t))
         self._cache[key] = vf
         while len(self._cache) > self.maxsize:
             self._cache.popitem(last=False)

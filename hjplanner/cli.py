@@ -1,4 +1,4 @@
-"""Command line: ``hjplanner solve | path | bank``.
+"""Command line: ``hjplanner solve | path | bank | cache``.
 
 Examples
 --------
@@ -6,7 +6,9 @@ Examples
 
     hjplanner solve --arena paper --target 70,70 --rho 15 --out v.npz
     hjplanner path --value v.npz --start 128,12,135 --plot path.png
-    hjplanner bank --arena paper --spacing 12.7 --rho 15 --cache ./vf-cache
+    hjplanner bank --arena paper --spacing 12.7 --rho 15 --h 1.5 --ntheta 48 --clearance 4 --reverse
+    hjplanner cache --info          # banks in $HJPLANNER_CACHE or ~/.cache/hjplanner, and their size
+    hjplanner cache --clear
 """
 
 from __future__ import annotations
@@ -20,6 +22,8 @@ import numpy as np
 from .errors import PlanningError
 
 __all__ = ["main"]
+
+CACHE_HELP = "cache directory (default: $HJPLANNER_CACHE, else ~/.cache/hjplanner)"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -99,15 +103,10 @@ def _cmd_path(args) -> int:
     x, y, deg = _floats(args.start, 3, "--start X,Y,DEG")
     path = vf.path((x, y, np.radians(deg)), ds=args.ds)
     words = {1: "L", 0: "S", -1: "R"}
-    runs = []  # [word, arc length] of consecutive steps with the same steering
-    for u, step in zip(path.steering, path.step_lengths):
-        if runs and runs[-1][0] == words[int(u)]:
-            runs[-1][1] += step
-        else:
-            runs.append([words[int(u)], step])
+    gears = {1: "", -1: "-"}  # reverse runs carry a minus sign: "-R4.2"
     summary = dict(start=[x, y, deg], target=vf.target.tolist(), phi_start=path.value_start, length=path.length,
                    reached=path.reached, steps=len(path.steering),
-                   controls=" ".join(f"{w}{length:.3g}" for w, length in runs))
+                   controls=" ".join(f"{gears[v]}{words[u]}{length:.3g}" for u, v, length in path.segments))
     print(json.dumps(summary))
     if args.plot:
         import matplotlib
@@ -133,8 +132,30 @@ def _cmd_bank(args) -> int:
                              clearance=args.clearance, reverse=args.reverse, cache_dir=args.cache)
     n_missing = len(bank.missing())
     seconds = bank.build(workers=args.workers, progress=not args.quiet)
-    print(f"bank of {len(bank)} targets (spacing {args.spacing:g}) in {bank.cache_dir}: "
-          f"{n_missing} solved in {seconds:.1f} s, {len(bank) - n_missing} from cache")
+    size = sum(f.stat().st_size for f in bank.directory.iterdir())
+    print(f"bank of {len(bank)} targets (spacing {args.spacing:g}) in {bank.directory}: "
+          f"{n_missing} solved in {seconds:.1f} s, {len(bank) - n_missing} from cache; {size / 1e6:.2f} MB")
+    return 0
+
+
+def _cmd_cache(args) -> int:
+    from .bank import cache_info, clear_cache, default_cache_dir
+    root = args.cache or default_cache_dir()
+    if args.clear:
+        print(f"freed {clear_cache(root) / 1e6:.2f} MB in {root}")
+        return 0
+    entries = cache_info(root)
+    banks = [e for e in entries if e["key"] != "legacy"]
+    total = sum(e["bytes"] for e in entries)
+    print(f"{len(banks)} bank{'s' if len(banks) != 1 else ''}, {total / 1e6:.2f} MB in {root}")
+    for e in entries:
+        if e["key"] == "legacy":
+            print(f"  {e['files']} files of an older hjplanner (no longer read): {e['bytes'] / 1e6:.2f} MB")
+            continue
+        p = e["params"]
+        print(f"  {e['key']}  {e['domain']}  spacing {p['spacing']:g} rho {p['rho']:g} h {p['h']:g} "
+              f"ntheta {p['ntheta']} clearance {p['clearance']:g}{' reverse' if p['reverse'] else ''}: "
+              f"{e['files']}/{e['targets']} value functions, {e['bytes'] / 1e6:.2f} MB")
     return 0
 
 
@@ -157,10 +178,16 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bank", help="precompute value functions on a lattice of targets")
     _add_grid_arguments(p)
     p.add_argument("--spacing", type=float, required=True, help="lattice spacing of the targets")
-    p.add_argument("--cache", default=None, help="cache directory (default ~/.cache/hjplanner)")
+    p.add_argument("--cache", default=None, help=CACHE_HELP)
     p.add_argument("--workers", type=int, default=None, help="processes (default: CPU count)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(run=_cmd_bank)
+    p = sub.add_parser("cache", help="show (default) or clear the value-function banks in the cache")
+    p.add_argument("--cache", default=None, help=CACHE_HELP)
+    action = p.add_mutually_exclusive_group()
+    action.add_argument("--info", action="store_true", help="list the banks and their size (the default)")
+    action.add_argument("--clear", action="store_true", help="delete every bank (only hjplanner's files)")
+    p.set_defaults(run=_cmd_cache)
     return parser
 
 

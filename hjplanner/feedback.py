@@ -10,16 +10,17 @@ from .errors import PlanningError
 __all__ = ["steering"]
 
 
-def steering(vf, pose: ArrayLike, dead_band: float | None = None) -> int:
+def steering(vf, pose: ArrayLike, dead_band: float | None = None, direction: int = 1) -> int:
     """Steering command at the current (estimated) pose.
 
-    ``u = -sign(φ_θ)`` (eq. (15)): turn so that φ decreases fastest.  Within
-    the dead band ``|φ_θ| <= dead_band`` the car drives straight: on an
-    optimal straight segment φ_θ changes sign across the path, and a bare
-    sign would make the car chatter left-right around it.
-
-    The law is for forward driving; with a Reeds-Shepp value function use
-    :func:`hjplanner.optimal_path`, which also chooses the direction.
+    ``u = -v sign(φ_θ)`` (eq. (15), with ``v`` the direction of motion): turn
+    so that φ decreases fastest -- when reversing, the heading changes by
+    ``v u ds/ρ``, so the same turn needs the opposite steering.  Within the
+    dead band ``|φ_θ| <= dead_band`` the car drives straight: on an optimal
+    straight segment φ_θ changes sign across the path, and a bare sign would
+    make the car chatter left-right around it.  With a Reeds-Shepp value
+    function, :func:`hjplanner.optimal_path` tells the direction (the gear
+    of each path step).
 
     Parameters
     ----------
@@ -29,6 +30,8 @@ def steering(vf, pose: ArrayLike, dead_band: float | None = None) -> int:
         (x, y, θ), θ in radians.
     dead_band : float, optional
         Threshold on ``|φ_θ|`` (length unit per radian); default ``0.05 ρ``.
+    direction : {1, -1}, optional
+        Gear: +1 forward, -1 reverse.
 
     Returns
     -------
@@ -39,7 +42,8 @@ def steering(vf, pose: ArrayLike, dead_band: float | None = None) -> int:
     Raises
     ------
     PlanningError
-        If ``pose`` is not three finite numbers or ``dead_band < 0``.
+        If ``pose`` is not three finite numbers, ``dead_band < 0`` or
+        ``direction`` is not ±1.
 
     Examples
     --------
@@ -54,12 +58,13 @@ def steering(vf, pose: ArrayLike, dead_band: float | None = None) -> int:
     dead_band = 0.05 * vf.rho if dead_band is None else float(dead_band)
     if not dead_band >= 0:
         raise PlanningError(f"dead_band must be >= 0, got {dead_band}")
+    if direction not in (1, -1):
+        raise PlanningError(f"direction must be 1 (forward) or -1 (reverse), got {direction!r}")
     if not np.isfinite(vf(*p)):
         return 0
     d_theta = float(vf.dtheta(*p))
-    if not np.isfinite(d_theta):
-        # One side of the heading is unreachable: turn away from it.
-        return -1 if d_theta > 0 else 1
-    if abs(d_theta) <= dead_band:
+    # Off the dead band -- or with one side of the heading unreachable (φ_θ
+    # infinite) -- turn towards decreasing φ.
+    if np.isfinite(d_theta) and abs(d_theta) <= dead_band:
         return 0
-    return -1 if d_theta > 0 else 1
+    return -direction if d_theta > 0 else direction

@@ -2,17 +2,17 @@
 
 from __future__ import annotations
 
+import heapq
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._motion import LEFT, RIGHT, STRAIGHT, arc_step, arcs_are_clear
 from .dubins import local_exact
 from .errors import PlanningError
 
-__all__ = ["PlannedPath", "optimal_path", "arc_step"]
-
-LEFT, STRAIGHT, RIGHT = 1, 0, -1
+__all__ = ["PlannedPath", "optimal_path", "merge_short_segments", "arc_step"]
 
 
 @dataclass(frozen=True)
@@ -55,48 +55,112 @@ class PlannedPath:
         """(n, 2) positions."""
         return self.poses[:, :2]
 
+    @property
+    def segments(self) -> list[tuple[int, int, float]]:
+        """The controls as runs ``(steering, direction, arc length)`` of consecutive equal steps."""
+        return [(u, v, length) for u, v, length in _runs(self.steering, self.direction, self.step_lengths)]
 
-def arc_step(poses: np.ndarray, u: ArrayLike, v: ArrayLike, ds: ArrayLike, rho: float) -> np.ndarray:
-    """Poses after arc length ``ds`` with steering ``u`` (curvature u/ρ) and direction ``v`` (±1).
 
-    ``poses`` is (3,) or (n, 3); ``u``, ``v`` and ``ds`` broadcast against n.
+def _runs(steering, direction, step_lengths) -> list[list]:
+    """[steering, direction, length] of each run of equal consecutive controls."""
+    runs = []
+    for u, v, step in zip(steering, direction, step_lengths):
+        if runs and runs[-1][0] == u and runs[-1][1] == v:
+            runs[-1][2] += float(step)
+        else:
+            runs.append([int(u), int(v), float(step)])
+    return runs
 
-    Exact integration of eq. (9) with ``θ' = u/ρ`` (forward Euler in the
-    paper; exact arcs here, so paths respect the turning radius exactly).
+
+def _drive(start: np.ndarray, runs, ds: float, rho: float):
+    """Poses, steering, direction and step lengths of ``runs`` driven from ``start`` in steps of at most ``ds``."""
+    poses, u, v, steps = [np.asarray(start, float)[None]], [], [], []
+    for run_u, run_v, length in runs:
+        n = max(1, int(np.ceil(length / ds - 1e-9)))
+        along = length * np.arange(1, n + 1) / n
+        poses.append(arc_step(poses[-1][-1], run_u, run_v, along, rho))
+        u += [run_u] * n
+        v += [run_v] * n
+        steps += [length / n] * n
+    return np.concatenate(poses), np.array(u, dtype=int), np.array(v, dtype=int), np.array(steps)
+
+
+def _clear(vf, poses, u, v, steps) -> bool:
+    """Whether every step of a path stays certified at the value function's clearance."""
+    return bool(arcs_are_clear(vf.distance, vf.grid, vf.clearance, poses[:-1], u, v, steps, vf.rho).all())
+
+
+def merge_short_segments(vf, path: PlannedPath, min_segment: float, stop_tol: float) -> PlannedPath:
+    """Merge the runs of ``path`` shorter than ``min_segment`` into a neighbour, where the result stays valid.
+
+    The shortest such run takes the steering of its longer neighbour of the
+    same direction, else of the other, else -- with the next run, if that
+    turns the other way (a zig-zag) -- both drive straight; the last run may
+    also be dropped.  A change is kept only if the re-driven path stays certified
+    clear of the walls and ends within ``stop_tol`` of the target (and at
+    least as close as before if it did not reach it).  Gear changes are
+    kept: a run is never merged into one of the other direction.
+
+    Parameters
+    ----------
+    vf : ValueFunction
+        The value function the path was read off (geometry, clearance, ρ).
+    path : PlannedPath
+        Path to smooth.
+    min_segment : float
+        Shortest run the car can execute (length unit).
+    stop_tol : float
+        Distance to the target within which the path counts as arrived.
+
+    Returns
+    -------
+    PlannedPath
+        The smoothed path (``path`` itself when nothing could be merged).
     """
-    poses = np.atleast_2d(np.asarray(poses, float))
-    u = np.asarray(u, float)
-    v = np.asarray(v, float)
-    ds = np.asarray(ds, float)
-    x, y, th = poses[..., 0], poses[..., 1], poses[..., 2]
-    dth = u * ds / rho
-    # chord of the arc: length 2ρ sin(dθ/2)/|u|, direction θ + dθ/2 (ds for straight steps)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        chord = np.where(u == 0, ds, 2 * rho * np.sin(0.5 * np.abs(dth)) / np.where(u == 0, 1, np.abs(u)))
-    mid = th + v * 0.5 * dth
-    new_th = np.mod(th + v * dth, 2 * np.pi)
-    return np.stack([x + v * chord * np.cos(mid), y + v * chord * np.sin(mid), new_th], axis=-1)
+    runs = [run + [False] for run in _runs(path.steering, path.direction, path.step_lengths)]
+    start, target = path.poses[0], vf.target
+    end_gap = float(np.hypot(*(path.poses[-1, :2] - target)))
+    allowed = max(stop_tol, end_gap)
+    changed = False
+    while len(runs) > 1:
+        short = [n for n, run in enumerate(runs) if run[2] < min_segment and not run[3]]
+        if not short:
+            break
+        n = min(short, key=lambda m: runs[m][2])
+        neighbours = sorted((m for m in (n - 1, n + 1) if 0 <= m < len(runs) and runs[m][1] == runs[n][1]),
+                            key=lambda m: -runs[m][2])
+        candidates = [runs[:n] + [[runs[m][0], runs[n][1], runs[n][2], False]] + runs[n + 1:] for m in neighbours]
+        if n + 1 < len(runs) and runs[n + 1][1] == runs[n][1] and runs[n + 1][0] == -runs[n][0] != STRAIGHT:
+            # a zig-zag: two opposite turns, nearly a straight segment
+            candidates.append(runs[:n] + [[STRAIGHT, runs[n][1], runs[n][2] + runs[n + 1][2], False]] + runs[n + 2:])
+        if n == len(runs) - 1:
+            candidates.append(runs[:n])
+        for candidate in candidates:
+            merged = _coalesce(candidate)
+            if len(merged) >= len(runs):  # every accepted change removes a run: the loop ends
+                continue
+            poses, u, v, steps = _drive(start, [run[:3] for run in merged], path.ds, vf.rho)
+            if np.hypot(*(poses[-1, :2] - target)) <= allowed and _clear(vf, poses, u, v, steps):
+                runs, changed = merged, True
+                break
+        else:
+            runs[n][3] = True
+    if not changed:
+        return path
+    poses, u, v, steps = _drive(start, [run[:3] for run in runs], path.ds, vf.rho)
+    reached = bool(np.hypot(*(poses[-1, :2] - target)) <= stop_tol)
+    return PlannedPath(poses, u, v, steps, path.ds, reached, path.value_start)
 
 
-def _lenient_value(vf, poses: np.ndarray) -> np.ndarray:
-    """Trilinear φ renormalised over the finite corners; +inf if a corner is blocked or none is finite."""
-    g = vf.grid
-    phi = vf._phi
-    gx = (poses[:, 0] - g.x0) / g.h
-    gy = (poses[:, 1] - g.y0) / g.h
-    gt = np.mod(poses[:, 2], 2 * np.pi) / g.dtheta
-    out = np.full(len(poses), np.inf)
-    inside = (gx >= 0) & (gx <= g.nx - 1) & (gy >= 0) & (gy <= g.ny - 1)
-    for n in np.nonzero(inside)[0]:
-        i, j, k = min(int(gx[n]), g.nx - 2), min(int(gy[n]), g.ny - 2), int(gt[n]) % g.ntheta
-        if not vf.free[i:i + 2, j:j + 2].all():
-            continue
-        fx, fy, ft = gx[n] - i, gy[n] - j, gt[n] - np.floor(gt[n])
-        w = np.einsum("a,b,c->abc", [1 - ft, ft], [1 - fx, fx], [1 - fy, fy])
-        values = phi[[k, (k + 1) % g.ntheta]][:, i:i + 2, j:j + 2]
-        ok = np.isfinite(values) & (w > 0)
-        if ok.any():
-            out[n] = float((w[ok] * values[ok]).sum() / w[ok].sum())
+def _coalesce(runs: list[list]) -> list[list]:
+    """Join consecutive runs of equal controls (their 'cannot merge' marks are reset)."""
+    out = []
+    for u, v, length, stuck in runs:
+        if out and out[-1][0] == u and out[-1][1] == v:
+            out[-1][2] += length
+            out[-1][3] = False
+        else:
+            out.append([u, v, length, stuck])
     return out
 
 
@@ -106,26 +170,105 @@ def _first_minimum(values: np.ndarray) -> int:
 
 
 def _stencil_controls(vf) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Steering u, direction v and arc length s of the solver's stencils."""
-    from .solver import SolverOptions, controls
+    """Steering u, direction v and arc length s of the solver's stencils, straight and short first."""
+    from .solver import SolverOptions
     options = SolverOptions(**vf.meta.get("options", {}))
-    ctrl = sorted(controls(vf.rho, vf.grid, options, vf.reverse), key=lambda c: (c[1] != 0, c[2]))
+    ctrl = sorted(options.controls(vf.rho, vf.grid, vf.reverse), key=lambda c: (c[1] != 0, c[2]))
     v, u, s = (np.array(column) for column in zip(*ctrl))
     return u.astype(int), v.astype(int), s.astype(float)
 
 
+def _arc_values(vf, poses: np.ndarray, us, vs, lengths, lenient: bool) -> tuple[np.ndarray, np.ndarray]:
+    """``s + φ(end of the arc)`` for each pose (n, 3) and control (m,), +inf where the arc is not clear; and the ends."""
+    n, m = len(poses), len(us)
+    starts = np.repeat(poses, m, axis=0)
+    u, v, s = np.tile(us, n), np.tile(vs, n), np.tile(lengths, n)
+    ends = arc_step(starts, u, v, s, vf.rho)
+    values = s + vf(ends[:, 0], ends[:, 1], ends[:, 2], cubic=False, lenient=lenient)
+    clear = arcs_are_clear(vf.distance, vf.grid, vf.clearance, starts, u, v, s, vf.rho)
+    return np.where(clear, values, np.inf).reshape(n, m), ends.reshape(n, m, 3)
+
+
+def _search(vf, start: np.ndarray, us, vs, lengths, arrived, arcs_pass, max_length: float, max_steps: int):
+    """A* over chains of stencil arcs from ``start``, guided by φ (hybrid A*).
+
+    A pose reached with arc length ``g`` is ranked by ``g + φ(pose)``; its
+    successors are the stencil arcs certified clear of the walls, with φ at
+    their end interpolated as at the scheme's feet (+inf where a corner of
+    the end's cell is blocked or unreached).  Where φ is accurate the
+    search expands the poses along the discrete characteristic -- the arcs
+    the scheme chose at the nodes -- and little else; next to a wall, where
+    interpolation is optimistic, it backs out of poses from which no arc
+    leads on.  A pose is expanded once per (x, y, θ) grid cell.
+
+    Returns the controls [(u, v, s), ...] up to the first pose for which
+    ``arrived(poses)`` holds or the first arc for which ``arcs_pass(poses,
+    u, v, s)`` holds -- or, failing that, up to the expanded pose of
+    smallest φ -- and whether it arrived.
+    """
+    grid = vf.grid
+
+    def cell(pose):
+        return (int(np.floor(pose[0] / grid.h)), int(np.floor(pose[1] / grid.h)),
+                int(np.floor(np.mod(pose[2], 2 * np.pi) / grid.dtheta + 0.5)) % grid.ntheta)
+
+    poses, parents, moves, done = [start], [-1], [None], [bool(arrived(start[None])[0])]
+    heap = [(float(vf(*start, cubic=False, lenient=True)), 0, 0.0, 0)]
+    closed, counter, best = set(), 0, (np.inf, 0)
+    while heap and len(closed) < max_steps:
+        _, _, g, n = heapq.heappop(heap)
+        if done[n]:
+            return _chain(parents, moves, n), True
+        key = cell(poses[n])
+        if key in closed:
+            continue
+        closed.add(key)
+        values, ends = _arc_values(vf, poses[n][None], us, vs, lengths, lenient=len(closed) == 1)
+        values, ends = values[0], ends[0]
+        if np.isfinite(values.min()):
+            best = min(best, (float(values.min() - lengths[np.argmin(values)]), n))
+        passing = arcs_pass(np.repeat(poses[n][None], len(us), axis=0), us, vs, lengths) | arrived(ends)
+        for c in np.flatnonzero(np.isfinite(values)):
+            if g + lengths[c] > max_length:
+                continue
+            counter += 1
+            poses.append(ends[c])
+            parents.append(n)
+            moves.append((int(us[c]), int(vs[c]), float(lengths[c])))
+            done.append(bool(passing[c]))
+            heapq.heappush(heap, (g + float(values[c]), counter, g + lengths[c], len(poses) - 1))
+    return _chain(parents, moves, best[1]), False
+
+
+def _chain(parents, moves, n) -> list:
+    """Controls from the root of the search tree to node ``n``."""
+    out = []
+    while parents[n] >= 0:
+        out.append(moves[n])
+        n = parents[n]
+    return out[::-1]
+
+
 def optimal_path(vf, start_pose: ArrayLike, ds: float | None = None, *, stop_tol: float | None = None,
-                 max_length: float | None = None) -> PlannedPath:
+                 max_length: float | None = None, min_segment: float | None = None) -> PlannedPath:
     """Follow the characteristics of φ from ``start_pose`` to the target.
 
-    From the current pose the path drives the whole arc of the solver
-    stencil minimising ``s + φ(end of the arc of length s)`` -- the discrete
-    form of eq. (15), ``θ' = -sign(φ_θ)/ρ`` (eq. (16) run forwards) and the
-    same choice the scheme made at the grid nodes, so the path stays in the
-    region where φ is finite, hence out of the (inflated) obstacles -- then
-    decides again.  Arcs are integrated exactly and sampled every ``ds`` or
+    The path is a chain of the solver's stencil arcs, each certified clear
+    of the walls all along, found by a best-first (A*) search ranked by
+    ``driven length + φ(end of the arc)``: where φ is accurate the search
+    just follows the discrete characteristic -- the arc minimising ``s +
+    φ(end)``, the discrete form of eq. (15), ``θ' = -sign(φ_θ)/ρ`` (eq. (16)
+    run forwards), and the choice the scheme made at the grid nodes -- and
+    where interpolating φ next to a wall is optimistic it backs out of
+    poses from which no arc leads on (see :func:`_search`).  So the path
+    never comes closer than the clearance to a wall, whatever the
+    clearance, and its length stays within a few grid spacings of
+    φ(start).  Arcs are integrated exactly and sampled every ``ds`` or
     less.  Within the solver's exact layer around a point target the path
     descends the exact φ in steps of ``ds``.  Ties go to driving straight.
+    Finally runs shorter than ``min_segment`` are merged into their
+    neighbours where the path stays clear and still arrives
+    (:func:`merge_short_segments`).
 
     Parameters
     ----------
@@ -139,6 +282,9 @@ def optimal_path(vf, start_pose: ArrayLike, ds: float | None = None, *, stop_tol
         Stop when within this distance of the target; default ``max(2 h, tol)``.
     max_length : float, optional
         Give up after this length; default ``1.5 φ(start) + 20 h``.
+    min_segment : float, optional
+        Shortest run of one control the car should execute; default ``2 h``;
+        0 keeps the path as read off φ.
 
     Returns
     -------
@@ -148,7 +294,8 @@ def optimal_path(vf, start_pose: ArrayLike, ds: float | None = None, *, stop_tol
     Raises
     ------
     PlanningError
-        If the start pose is invalid or cannot reach the target (φ = +inf).
+        If the start pose or a parameter is invalid, or the start cannot
+        reach the target (φ = +inf).
 
     Examples
     --------
@@ -165,56 +312,65 @@ def optimal_path(vf, start_pose: ArrayLike, ds: float | None = None, *, stop_tol
     ds = 0.5 * h if ds is None else float(ds)
     if not ds > 0:
         raise PlanningError(f"ds must be positive, got {ds}")
+    min_segment = 2 * h if min_segment is None else float(min_segment)
+    if not min_segment >= 0:
+        raise PlanningError(f"min_segment must be >= 0, got {min_segment}")
     stop_tol = max(2 * h, float(vf.meta.get("tol", 0.0))) if stop_tol is None else float(stop_tol)
     value_start = float(vf(*start))
     if not np.isfinite(value_start):
         raise PlanningError(
             f"start pose ({start[0]:g}, {start[1]:g}, {np.degrees(start[2]):.1f} deg) cannot reach the target: "
-            "it is blocked, outside the domain, or facing a wall too close to turn")
+            "it is blocked, outside the domain, within the clearance of a wall, or facing a wall too close to turn")
     max_length = 1.5 * value_start + 20 * h if max_length is None else float(max_length)
     us, vs, lengths = _stencil_controls(vf)
     rho, target = vf.rho, vf.target
-    poses, steering, direction = [start], [], []
-    pose = start
-    reached = bool(np.hypot(*(pose[:2] - target)) <= stop_tol)
     r0 = float(vf.meta.get("local_radius", 0.0))
+
+    def in_exact_layer(pose) -> bool:
+        return r0 > 0 and bool(np.isfinite(local_exact(*pose, target, rho, r0, vf.reverse)))
+
+    def arrived(poses) -> np.ndarray:
+        """Whether each pose (n, 3) is within stop_tol of the target or in the exact layer."""
+        out = np.hypot(*(poses[:, :2] - target).T) <= stop_tol
+        if r0 > 0:
+            out |= np.isfinite(local_exact(poses[:, 0], poses[:, 1], poses[:, 2], target, rho, r0, vf.reverse))
+        return out
+
+    def arcs_pass(poses, u, v, s) -> np.ndarray:
+        """Whether each arc arrives (see ``arrived``) somewhere along its length, sampled every ds."""
+        near = np.hypot(*(poses[:, :2] - target).T) <= s + max(stop_tol, r0)
+        out = np.zeros(len(poses), dtype=bool)
+        if near.any():
+            along = np.linspace(0.0, 1.0, max(2, int(np.ceil(s.max() / ds)) + 1))
+            samples = arc_step(poses[near][:, None, :], u[near][:, None], v[near][:, None],
+                               s[near][:, None] * along, rho)
+            out[near] = arrived(samples.reshape(-1, 3)).reshape(samples.shape[:2]).any(axis=1)
+        return out
+
+    budget = max(2000, int(20 * max_length / lengths.min()))
+    runs, _ = _search(vf, start, us, vs, lengths, arrived, arcs_pass, max_length, budget)
+    poses, steering, direction, step_lengths = _drive(start, runs, ds, rho)
+    # stop where the last arc first comes within stop_tol or enters the exact layer
+    cut = int(np.argmax(arrived(poses))) if arrived(poses).any() else len(poses) - 1
+    poses, steering, direction, step_lengths = poses[:cut + 1], steering[:cut], direction[:cut], step_lengths[:cut]
+    pose = poses[-1]
+    # Inside the exact layer (a disk certified clear of the walls): descend
+    # the exact φ with steps ds; the solver's longer stencils would overshoot.
     short_u = np.array([STRAIGHT, LEFT, RIGHT] * (2 if vf.reverse else 1))
     short_v = np.repeat((1, -1) if vf.reverse else (1,), 3)
-    driven, step_lengths = 0.0, []
-    while not reached and driven < max_length:
-        best, u_set, v_set, spans = -1, us, vs, lengths
-        if r0 > 0 and np.isfinite(local_exact(*pose, target, rho, r0, vf.reverse)):
-            # Inside the exact layer: descend the exact φ with steps ds; the
-            # solver's longer stencils would overshoot the target.
-            ends = arc_step(np.repeat(pose[None], len(short_u), axis=0), short_u, short_v, ds, rho)
-            values = local_exact(ends[:, 0], ends[:, 1], ends[:, 2], target, rho, r0, vf.reverse)
-            if np.isfinite(values.min()):
-                best, u_set, v_set, spans = _first_minimum(values), short_u, short_v, np.full(len(short_u), ds)
-        if best < 0:
-            ends = arc_step(np.repeat(pose[None], len(us), axis=0), us, vs, lengths, rho)
-            values = lengths + vf(ends[:, 0], ends[:, 1], ends[:, 2], cubic=False)
-            best = _first_minimum(values)
-            if not np.isfinite(values[best]):
-                # Between nodes at the edge of the reachable set every stencil may
-                # end next to a +inf node; then average φ over the finite corners
-                # only, still refusing feet in cells touching blocked nodes.
-                values = lengths + _lenient_value(vf, ends)
-                best = _first_minimum(values)
-                if not np.isfinite(values[best]):
-                    break
-        # Drive the whole chosen arc, as the scheme's characteristic does, in
-        # sub-steps of at most ds: re-deciding after every ds lets the pose
-        # drift off the discrete characteristic near obstacles.
-        n_sub = max(1, int(np.ceil(spans[best] / ds - 1e-9)))
-        for _ in range(n_sub):
-            pose = arc_step(pose, u_set[best], v_set[best], spans[best] / n_sub, rho)[0]
-            poses.append(pose)
-            steering.append(u_set[best])
-            direction.append(v_set[best])
-            step_lengths.append(spans[best] / n_sub)
-            driven += spans[best] / n_sub
-            reached = bool(np.hypot(*(pose[:2] - target)) <= stop_tol)
-            if reached:
-                break
-    return PlannedPath(np.array(poses), np.array(steering, dtype=int), np.array(direction, dtype=int),
-                       np.array(step_lengths), ds, reached, value_start)
+    tail = []
+    driven = float(step_lengths.sum())
+    while not np.hypot(*(pose[:2] - target)) <= stop_tol and in_exact_layer(pose) and driven < max_length:
+        ends = arc_step(np.repeat(pose[None], len(short_u), axis=0), short_u, short_v, ds, rho)
+        best = _first_minimum(local_exact(ends[:, 0], ends[:, 1], ends[:, 2], target, rho, r0, vf.reverse))
+        pose = ends[best]
+        tail.append((short_u[best], short_v[best], ds))
+        driven += ds
+    if tail:
+        poses, steering, direction, step_lengths = _drive(start, _runs(steering, direction, step_lengths) + tail,
+                                                          ds, rho)
+    reached = bool(np.hypot(*(poses[-1, :2] - target)) <= stop_tol)
+    path = PlannedPath(poses, steering, direction, step_lengths, ds, reached, value_start)
+    if min_segment > 0 and len(path.steering):
+        path = merge_short_segments(vf, path, min_segment, stop_tol)
+    return path

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import time
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
 from . import _sweep
-from ._grid import Grid, make_grid
+from ._grid import Grid, domain_geometry, lower_wall_distance, make_grid
+from ._motion import arc_samples, arc_step, controls, sample_spacing
 from .dubins import local_exact
 from .errors import PlanningError
 from .value_function import ValueFunction
@@ -64,78 +66,126 @@ class SolverOptions:
         """JSON-serialisable form (stored in value-function metadata)."""
         return {key: list(v) if isinstance(v, tuple) else v for key, v in vars(self).items()}
 
-
-def _arc_displacement(theta: np.ndarray, u: float, s: float, rho: float) -> tuple[np.ndarray, np.ndarray]:
-    """Displacement after arc length ``s`` from heading ``theta`` with curvature ``u/rho``."""
-    if u == 0:
-        return s * np.cos(theta), s * np.sin(theta)
-    return (rho / u * (np.sin(theta + u * s / rho) - np.sin(theta)),
-            -rho / u * (np.cos(theta + u * s / rho) - np.cos(theta)))
+    def controls(self, rho: float, grid: Grid, reverse: bool) -> list[tuple[int, int, float]]:
+        """The (direction, steering, arc length) of each stencil; see :func:`hjplanner._motion.controls`."""
+        return controls(rho, grid, self.turn_steps, self.straight_cells, reverse)
 
 
-def controls(rho: float, grid: Grid, options: SolverOptions, reverse: bool) -> list[tuple[int, int, float]]:
-    """The (direction v = ±1, steering u ∈ {-1, 0, 1}, arc length s) of each stencil."""
-    out = []
-    for v in ((1, -1) if reverse else (1,)):
-        out += [(v, 0, c * grid.h) for c in options.straight_cells]
-        out += [(v, u, m * rho * grid.dtheta) for m in options.turn_steps for u in (-1, 1)]
-    return out
+@dataclass(frozen=True)
+class Workspace:
+    """Everything about a solve that does not depend on the target (picklable; shared by a bank).
+
+    Attributes
+    ----------
+    grid : Grid
+        The (x, y, θ) grid.
+    distance : numpy.ndarray
+        Signed wall distance at the nodes (nx, ny), from the domain's geometry.
+    free : numpy.ndarray
+        Nodes in free space at least ``clearance`` from every wall (nx, ny).
+    geometry : dict
+        ``name``, ``boundary`` and ``obstacles`` of the domain.
+    rho, clearance : float
+        Turning radius and wall clearance (length unit).
+    reverse : bool
+        Reeds-Shepp car.
+    options : SolverOptions
+        Numerical parameters.
+    ctrl : list of (int, int, float)
+        The stencils' (direction, steering, arc length).
+    stencils : dict
+        Arrays of :func:`build_stencils`.
+    """
+
+    grid: Grid
+    distance: np.ndarray
+    free: np.ndarray
+    geometry: dict
+    rho: float
+    clearance: float
+    reverse: bool
+    options: SolverOptions
+    ctrl: list
+    stencils: dict
 
 
-def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]]) -> dict:
-    """Per (layer, control): foot offsets, bilinear corner weights, landing layer, cost.
+def prepare(domain, rho: float, h: float, ntheta: int, *, clearance: float = 0.0, reverse: bool = False,
+            options: SolverOptions | None = None) -> Workspace:
+    """The target-independent part of :func:`solve`: grid, free space and clear stencils (arguments as there)."""
+    _validate_grid(rho, h, ntheta, clearance)
+    options = options or SolverOptions()
+    grid, distance, free = make_grid(domain, float(h), int(ntheta), float(clearance))
+    ctrl = options.controls(float(rho), grid, reverse)
+    stencils = build_stencils(float(rho), grid, ctrl, distance, free, float(clearance))
+    return Workspace(grid, distance, free, domain_geometry(domain), float(rho), float(clearance), bool(reverse),
+                     options, ctrl, stencils)
+
+
+def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], distance: np.ndarray,
+                   free: np.ndarray, clearance: float) -> dict:
+    """Per (layer, control): foot offsets, bilinear corner weights, landing layer, cost; clear-arc bitmasks.
 
     The foot of stencil c from node (i, j, θ_k) lies in the cell whose lower
     corner is ``(i + off_i, j + off_j)`` of layer ``kk``; its corners carry
     the weights ``w[..., 0:4]`` (order (0,0), (0,1), (1,0), (1,1)).  A weight
     on the node itself is moved to the left-hand side: ``inv_self = 1/(1 - w_self)``.
+    ``adm`` (ntheta, nx, ny) is the bitmask of
+    :func:`hjplanner._sweep.stencil_masks`: the arcs clear of the walls, at
+    the samples also used by :func:`hjplanner._motion.arcs_are_clear`.
     """
     theta = grid.theta
     nt, nc = grid.ntheta, len(ctrl)
-    off_i = np.empty((nt, nc), np.int64)
-    off_j = np.empty((nt, nc), np.int64)
-    w = np.zeros((nt, nc, 4))
+    v, u, s = (np.array(column, dtype=float) for column in zip(*ctrl))
+    starts = np.column_stack([np.zeros(nt), np.zeros(nt), theta])
+    ends = arc_step(starts[:, None, :], u[None, :], v[None, :], s[None, :], rho)  # (nt, nc, 3)
+    gx, gy = ends[..., 0] / grid.h, ends[..., 1] / grid.h
+    # Snap round-off so that exact grid landings keep a single stencil node.
+    gx = np.where(np.abs(gx - np.round(gx)) < 1e-9, np.round(gx), gx)
+    gy = np.where(np.abs(gy - np.round(gy)) < 1e-9, np.round(gy), gy)
+    off_i, off_j = np.floor(gx).astype(np.int64), np.floor(gy).astype(np.int64)
+    fx, fy = gx - off_i, gy - off_j
+    w = np.stack([(1 - fx) * (1 - fy), (1 - fx) * fy, fx * (1 - fy), fx * fy], axis=-1)
+    turns = np.rint(v * u * s / (rho * grid.dtheta)).astype(np.int64)  # heading change v u s/ρ (eq. (9))
+    kk = (np.arange(nt)[:, None] + turns[None, :]) % nt
+    cost = np.broadcast_to(s, (nt, nc)).copy()
     inv_self = np.ones((nt, nc))
-    kk = np.empty((nt, nc), np.int64)
-    cost = np.empty((nt, nc))
-    for c, (v, u, s) in enumerate(ctrl):
-        dx, dy = _arc_displacement(theta, u, s, rho)
-        gx, gy = v * dx / grid.h, v * dy / grid.h
-        # Snap round-off so that exact grid landings keep a single stencil node.
-        gx = np.where(np.abs(gx - np.round(gx)) < 1e-9, np.round(gx), gx)
-        gy = np.where(np.abs(gy - np.round(gy)) < 1e-9, np.round(gy), gy)
-        off_i[:, c] = np.floor(gx)
-        off_j[:, c] = np.floor(gy)
-        fx, fy = gx - np.floor(gx), gy - np.floor(gy)
-        w[:, c] = np.column_stack([(1 - fx) * (1 - fy), (1 - fx) * fy, fx * (1 - fy), fx * fy])
-        kk[:, c] = (np.arange(nt) + u * int(round(s / (rho * grid.dtheta)))) % nt
-        cost[:, c] = s
-    for k in range(nt):
-        for c in range(nc):
-            if kk[k, c] != k:
-                continue
-            for corner, (a, b) in enumerate(((0, 0), (0, 1), (1, 0), (1, 1))):
-                if off_i[k, c] + a == 0 and off_j[k, c] + b == 0 and w[k, c, corner] > 0:
-                    if w[k, c, corner] > 1 - 1e-9:
-                        raise PlanningError("straight steps must be longer than the grid spacing h")
-                    inv_self[k, c] = 1.0 / (1.0 - w[k, c, corner])
-                    w[k, c, corner] = 0.0
+    for k, c in zip(*np.nonzero(kk == np.arange(nt)[:, None])):
+        for corner, (a, b) in enumerate(((0, 0), (0, 1), (1, 0), (1, 1))):
+            if off_i[k, c] + a == 0 and off_j[k, c] + b == 0 and w[k, c, corner] > 0:
+                if w[k, c, corner] > 1 - 1e-9:
+                    raise PlanningError("straight steps must be longer than the grid spacing h")
+                inv_self[k, c] = 1.0 / (1.0 - w[k, c, corner])
+                w[k, c, corner] = 0.0
     pad = int(max(np.abs(off_i).max(), np.abs(off_j).max())) + 2
+    # Clearance samples of every arc, relative to its start node (in grid units).
+    spacing = sample_spacing(grid.h)
+    points = arc_samples(np.repeat(starts, nc, axis=0), np.tile(u, nt), np.tile(v, nt), np.tile(s, nt), rho,
+                         spacing) / grid.h
+    points = points.reshape(nt, nc, -1, 2)
+    ci, cj = np.floor(points[..., 0]).astype(np.int64), np.floor(points[..., 1]).astype(np.int64)
+    corner_dist = grid.h * np.stack([np.hypot(points[..., 0] - ci - a, points[..., 1] - cj - b)
+                                     for a, b in ((0, 0), (0, 1), (1, 0), (1, 1))], axis=-1)
+    margin = clearance + 0.5 * s / (points.shape[2] - 1)
+    adm = _sweep.stencil_masks(distance, free, float(clearance), ci, cj, corner_dist, margin, s)
     # Visit each layer against its forward straight motion (see _sweep).
     rev_i = np.cos(theta) >= 0
     rev_j = np.sin(theta) >= 0
-    return dict(off_i=off_i, off_j=off_j, w=w, inv_self=inv_self, kk=kk, cost=cost, rev_i=rev_i, rev_j=rev_j,
-                pad=pad)
+    return dict(off_i=off_i, off_j=off_j, w=w, inv_self=inv_self, kk=kk, cost=cost, adm=adm, rev_i=rev_i,
+                rev_j=rev_j, pad=pad)
 
 
-def _validate(target, rho, h, ntheta, clearance, tol):
+def _validate_grid(rho, h, ntheta, clearance):
     for name, value in (("rho", rho), ("h", h)):
         if not (isinstance(value, (int, float, np.floating, np.integer)) and np.isfinite(value) and value > 0):
             raise PlanningError(f"{name} must be a positive finite number, got {value!r}")
     if not (isinstance(ntheta, (int, np.integer)) and ntheta >= 8):
         raise PlanningError(f"ntheta must be an integer >= 8 (headings per turn), got {ntheta!r}")
-    if not (np.isfinite(clearance) and clearance >= 0):
-        raise PlanningError(f"clearance must be >= 0, got {clearance!r}")
+    if not (isinstance(clearance, (int, float, np.floating, np.integer)) and np.isfinite(clearance)
+            and clearance >= 0):
+        raise PlanningError(f"clearance must be a finite number >= 0, got {clearance!r}")
+
+
+def _validate_target(target, tol):
     if tol is not None and not (np.isfinite(tol) and tol >= 0):
         raise PlanningError(f"tol must be None or >= 0, got {tol!r}")
     try:
@@ -147,57 +197,58 @@ def _validate(target, rho, h, ntheta, clearance, tol):
     return tx, ty
 
 
-def _boundary_data(grid: Grid, free: np.ndarray, target, rho: float, tol: float,
-                   ctrl, options: SolverOptions, reverse: bool) -> tuple[np.ndarray, float]:
+def _boundary_data(ws: Workspace, target, tol: float) -> tuple[np.ndarray, float]:
     """Initial values ``bc`` (ntheta, nx, ny), +inf except at states that reach the target directly.
 
     Returns ``bc`` and the radius ``r0`` of the exact layer (0 for disks).
 
     Point target (``tol == 0``): the exact value of eqs. (13)-(14) at states
     whose optimal path is shorter than ``r0`` -- a few cells -- and so lies in
-    the disk of radius ``r0`` around the target, which must be obstacle-free.
-    Next to an obstacle that disk shrinks; if it gets thinner than the
-    nominal radius, the disk of radius h/2 is also a target (first hits, as
-    below), so that every heading has boundary data.
+    the disk of radius ``r0`` around the target, which must be certified
+    clear of the walls.  Next to a wall that disk shrinks; if it gets thinner
+    than the nominal radius, the disk of radius h/2 is also a target (first
+    hits, as below), so that every heading has boundary data.
     Disk target (``tol > 0``): 0 inside the disk, and the arc length to the
-    first hit along each stencil's primitive for nodes next to it.
+    first hit along each clear stencil's primitive for nodes next to it.
     """
+    grid, free = ws.grid, ws.free
     tx, ty = target
     gx, gy = np.meshgrid(grid.x, grid.y, indexing="ij")
     dist = np.hypot(gx - tx, gy - ty)
     if tol > 0:
-        return _first_hits(grid, free, gx, gy, dist, target, tol, ctrl, rho), 0.0
+        return _first_hits(ws, gx, gy, dist, target, tol), 0.0
     bc = np.full((grid.ntheta, grid.nx, grid.ny), np.inf)
-    s_max = max(s for _, _, s in ctrl)
-    r0 = max(s_max + 2 * grid.h, options.local_radius * np.sqrt(rho * grid.h), options.exact_radius)
-    blocked = dist[~free]
-    constrained = bool(blocked.size and blocked.min() < r0)
+    s_max = max(s for _, _, s in ws.ctrl)
+    r0 = max(s_max + 2 * grid.h, ws.options.local_radius * np.sqrt(ws.rho * grid.h), ws.options.exact_radius)
+    clear = float(lower_wall_distance(ws.distance, grid.x0, grid.y0, grid.h, np.array([tx]), np.array([ty]))[0])
+    constrained = clear - ws.clearance < r0
     if constrained:
-        r0 = max(blocked.min() - grid.h, grid.h)
+        r0 = max(clear - ws.clearance, grid.h)
     near = np.nonzero(free & (dist <= r0))
     for k, theta in enumerate(grid.theta):
-        bc[k][near] = local_exact(gx[near], gy[near], theta, (tx, ty), rho, r0, reverse)
+        bc[k][near] = local_exact(gx[near], gy[near], theta, (tx, ty), ws.rho, r0, ws.reverse)
     if constrained:
-        bc = np.minimum(bc, _first_hits(grid, free, gx, gy, dist, target, 0.5 * grid.h, ctrl, rho))
+        bc = np.minimum(bc, _first_hits(ws, gx, gy, dist, target, 0.5 * grid.h))
     return bc, float(r0)
 
 
-def _first_hits(grid: Grid, free, gx, gy, dist, target, radius: float, ctrl, rho: float) -> np.ndarray:
-    """0 in the disk of ``radius`` about ``target``; nearby, the arc length along a stencil to the disk."""
+def _first_hits(ws: Workspace, gx, gy, dist, target, radius: float) -> np.ndarray:
+    """0 in the disk of ``radius`` about ``target``; nearby, the arc length along a clear stencil to the disk."""
+    grid, free = ws.grid, ws.free
     bc = np.full((grid.ntheta, grid.nx, grid.ny), np.inf)
-    s_max = max(s for _, _, s in ctrl)
+    s_max = max(s for _, _, s in ws.ctrl)
     near = np.nonzero(free & (dist <= radius + s_max + grid.h))
     inside = free & (dist <= radius)
-    samples = np.linspace(0.0, 1.0, 65)[1:]
+    fractions = np.linspace(0.0, 1.0, 65)[1:]
     for k, theta in enumerate(grid.theta):
         layer = bc[k]
         layer[inside] = 0.0
-        for v, u, s in ctrl:
-            dx, dy = _arc_displacement(np.full(1, theta), u, s * samples[:, None], rho)
-            px = gx[near][None, :] + v * dx
-            py = gy[near][None, :] + v * dy
-            hit = np.hypot(px - target[0], py - target[1]) <= radius
-            first = np.where(hit.any(axis=0), s * samples[np.argmax(hit, axis=0)], np.inf)
+        starts = np.column_stack([gx[near], gy[near], np.full(len(near[0]), theta)])
+        for c, (v, u, s) in enumerate(ws.ctrl):
+            clear = (ws.stencils["adm"][k][near] >> np.uint32(c)) & 1 == 1
+            ends = arc_step(starts[None, :, :], u, v, s * fractions[:, None], ws.rho)
+            hit = np.hypot(ends[..., 0] - target[0], ends[..., 1] - target[1]) <= radius
+            first = np.where(hit.any(axis=0) & clear, s * fractions[np.argmax(hit, axis=0)], np.inf)
             layer[near] = np.minimum(layer[near], first)
     bc[:, ~free] = np.inf
     return bc
@@ -214,11 +265,11 @@ def solve(domain, target, rho: float, h: float, ntheta: int, *, clearance: float
 
     Parameters
     ----------
-    domain : Arena or ((float, float), (float, float))
-        An object with ``boundary`` ((n, 2) array), ``obstacles`` (list of
-        (m, 2) arrays) and ``name`` -- an ``arenas.Arena`` -- whose walls and
-        obstacles are impassable; or rectangle bounds ``((x0, x1), (y0, y1))``
-        whose edges are walls.  Length unit as in the domain (cm for arenas).
+    domain : arenas.Arena or ((float, float), (float, float))
+        An arena, whose walls and obstacles are impassable -- its own
+        ``contains`` and ``wall_distance`` decide what is free -- or rectangle
+        bounds ``((x0, x1), (y0, y1))`` whose edges are walls.  Length unit as
+        in the domain (cm for arenas).
     target : (float, float)
         Target position; any final heading.
     rho : float
@@ -228,7 +279,9 @@ def solve(domain, target, rho: float, h: float, ntheta: int, *, clearance: float
     ntheta : int
         Number of headings, >= 8; ``Δθ = 2π/ntheta``.
     clearance : float, optional
-        Obstacles and walls are inflated by this distance (car footprint).
+        Distance every path keeps from every wall and obstacle (car
+        footprint), >= 0, length unit.  Each stencil's arc is checked all
+        along its length, not only at its ends: no path cuts a corner.
     tol : float, optional
         Target radius.  ``None`` or 0: a point target, seeded by its exact
         local solution; > 0: the disk of that radius is the target.
@@ -269,54 +322,54 @@ def solve(domain, target, rho: float, h: float, ntheta: int, *, clearance: float
     >>> abs(float(vf(-0.5, 0.0, 0.0)) - 0.5) < 0.05
     True
     """
-    tx, ty = _validate(target, rho, h, ntheta, clearance, tol)
-    options = options or SolverOptions()
+    return solve_in(prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options), target,
+                    tol=tol)
+
+
+def solve_in(ws: Workspace, target, *, tol: float | None = None) -> ValueFunction:
+    """:func:`solve` in a prepared :class:`Workspace` (what a bank does for each of its targets)."""
+    tx, ty = _validate_target(target, tol)
     tol = float(tol or 0.0)
-    grid, free, name, geometry = make_grid(domain, float(h), int(ntheta), float(clearance))
+    grid = ws.grid
     if not (grid.x0 <= tx <= grid.x1 and grid.y0 <= ty <= grid.y1):
         raise PlanningError(
             f"target ({tx:g}, {ty:g}) is outside the domain [{grid.x0:g}, {grid.x1:g}] x [{grid.y0:g}, {grid.y1:g}]")
-    inner = _target_is_free(grid, free, tx, ty)
-    if not inner:
+    if not target_is_free(grid, ws.free, tx, ty):
         raise PlanningError(
-            f"target ({tx:g}, {ty:g}) is inside an obstacle, a wall or their clearance of {clearance:g}; "
+            f"target ({tx:g}, {ty:g}) is inside an obstacle, a wall or their clearance of {ws.clearance:g}; "
             "choose a target in free space")
     t0 = time.perf_counter()
-    ctrl = controls(float(rho), grid, options, reverse)
-    bc, r0 = _boundary_data(grid, free, (tx, ty), float(rho), tol, ctrl, options, reverse)
+    bc, r0 = _boundary_data(ws, (tx, ty), tol)
     if not np.isfinite(bc).any():
         raise PlanningError(f"no grid node reaches the target within tol={tol:g}; increase tol or refine h")
-    phi, sweeps = solve_on_grid(grid, free, bc, float(rho), options, reverse)
-    meta = dict(domain=name, target=[tx, ty], rho=float(rho), h=grid.h, ntheta=grid.ntheta,
-                clearance=float(clearance), tol=tol, reverse=bool(reverse), local_radius=r0, sweeps=int(sweeps),
-                solve_time_s=time.perf_counter() - t0, options=options.as_dict())
-    return ValueFunction(phi, grid, free, meta, geometry)
+    phi, sweeps = solve_on_grid(ws, bc)
+    meta = dict(domain=ws.geometry["name"], target=[tx, ty], rho=ws.rho, h=grid.h, ntheta=grid.ntheta,
+                clearance=ws.clearance, tol=tol, reverse=ws.reverse, local_radius=r0, sweeps=int(sweeps),
+                solve_time_s=time.perf_counter() - t0, options=ws.options.as_dict())
+    return ValueFunction(phi, grid, ws.free, ws.distance, meta, ws.geometry)
 
 
-def solve_on_grid(grid: Grid, free: np.ndarray, bc: np.ndarray, rho: float, options: SolverOptions,
-                  reverse: bool = False) -> tuple[np.ndarray, int]:
+def solve_on_grid(ws: Workspace, bc: np.ndarray) -> tuple[np.ndarray, int]:
     """Fixed point of the scheme for boundary data ``bc`` (ntheta, nx, ny), +inf off the target set.
 
     Returns φ (ntheta, nx, ny), +inf where unreachable, and the number of sweeps.
     """
-    stencils = build_stencils(rho, grid, controls(rho, grid, options, reverse))
-    pad = stencils["pad"]
+    grid, st = ws.grid, ws.stencils
+    pad = st["pad"]
     phi = np.full((grid.ntheta, grid.nx + 2 * pad, grid.ny + 2 * pad), _sweep.BIG)
-    phi[:, pad:-pad, pad:-pad] = np.where(np.isfinite(bc) & free, bc, _sweep.BIG)
-    threads = options.threads or 1
+    phi[:, pad:-pad, pad:-pad] = np.where(np.isfinite(bc) & ws.free, bc, _sweep.BIG)
     sweeps = _sweep.solve_sweeps(
-        phi, free, bc, stencils["off_i"], stencils["off_j"], stencils["w"], stencils["inv_self"], stencils["kk"],
-        stencils["cost"], stencils["rev_i"], stencils["rev_j"], pad, options.sweep_tol * grid.h, options.max_sweeps,
-        threads)
+        phi, bc, st["off_i"], st["off_j"], st["w"], st["inv_self"], st["kk"], st["cost"], st["adm"], st["rev_i"],
+        st["rev_j"], pad, ws.options.sweep_tol * grid.h, ws.options.max_sweeps, ws.options.threads or 1)
     phi = np.ascontiguousarray(phi[:, pad:-pad, pad:-pad])
     phi[phi >= _sweep.UNREACHABLE] = np.inf
-    if sweeps >= options.max_sweeps:
+    if sweeps >= ws.options.max_sweeps:
         warnings.warn(f"hjplanner.solve stopped after max_sweeps={sweeps} sweeps before convergence",
                       RuntimeWarning, stacklevel=3)
     return phi, int(sweeps)
 
 
-def _target_is_free(grid: Grid, free: np.ndarray, tx: float, ty: float) -> bool:
+def target_is_free(grid: Grid, free: np.ndarray, tx: float, ty: float) -> bool:
     """True when all grid nodes of the cell holding the target are free."""
     i = min(int(np.floor((tx - grid.x0) / grid.h)), grid.nx - 2)
     j = min(int(np.floor((ty - grid.y0) / grid.h)), grid.ny - 2)

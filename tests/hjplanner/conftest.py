@@ -1,10 +1,9 @@
 """Shared fixtures of the hjplanner tests."""
 
-import types
-
 import numpy as np
 import pytest
 
+import arenas
 from hjplanner import point_distance, solve
 
 REFERENCE_DOMAIN = ((-1.0, 1.0), (-1.0, 1.0))
@@ -39,11 +38,17 @@ def coarse_vf():
 
 @pytest.fixture(scope="session")
 def u_room():
-    """Stand-in arena (duck-typed like arenas.Arena): a 4 x 3 room with a U-shaped obstacle."""
+    """A 4 x 3 arena with a U-shaped obstacle open at the top."""
     boundary = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]])
     u_shape = np.array([[1.5, 0.8], [2.5, 0.8], [2.5, 2.2], [2.3, 2.2], [2.3, 1.0], [1.7, 1.0], [1.7, 2.2],
                         [1.5, 2.2]])
-    return types.SimpleNamespace(boundary=boundary, obstacles=[u_shape], name="u-room")
+    return arenas.Arena.from_polygons(boundary, [u_shape], name="u-room")
+
+
+@pytest.fixture(scope="session")
+def paper():
+    """The built-in `paper` arena (cm) without its scenario, as the car platform passes it."""
+    return arenas.load("paper").without_scenario()
 
 
 @pytest.fixture(scope="session")

@@ -1,11 +1,11 @@
 """ValueFunctionBank (lattice, disk cache, processes) and OnDemandPlanner (LRU)."""
 
-import types
-
 import numpy as np
 import pytest
 
-from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank, lattice_targets
+import arenas
+from hjplanner import (OnDemandPlanner, PlanningError, ValueFunctionBank, cache_info, clear_cache, default_cache_dir,
+                       lattice_targets, solve)
 
 SMALL = dict(rho=0.2, h=0.1, ntheta=16)
 
@@ -13,11 +13,13 @@ SMALL = dict(rho=0.2, h=0.1, ntheta=16)
 def test_lattice_skips_obstacles(u_room):
     targets = lattice_targets(u_room, 0.5, h=0.05, clearance=0.05)
     assert targets.ndim == 2 and targets.shape[1] == 2
-    # centred lattice: 8 x 6 nodes, minus those in the inflated U
-    assert 30 < len(targets) < 48
-    from hjplanner._grid import free_space
-    assert free_space(targets, u_room.boundary, u_room.obstacles, 0.05).all()
-    with pytest.raises(PlanningError, match="spacing must be positive"):
+    # centred lattice of 8 x 6 points 0.5 apart, minus those in the inflated U (arena geometry as the oracle)
+    lattice = np.stack(np.meshgrid(0.25 + 0.5 * np.arange(8), 0.25 + 0.5 * np.arange(6), indexing="ij"), -1)
+    expected = lattice.reshape(-1, 2)[u_room.contains(lattice.reshape(-1, 2), 0.05 + 0.05 * np.sqrt(2))]
+    assert {tuple(t) for t in np.round(expected, 9)} <= {tuple(t) for t in np.round(targets, 9)}
+    assert u_room.contains(targets, 0.05).all()
+    assert len(targets) < 48
+    with pytest.raises(PlanningError, match="spacing must be a positive"):
         lattice_targets(u_room, 0.0)
 
 
@@ -26,8 +28,8 @@ def test_bank_builds_caches_and_finds_nearest(tmp_path, u_room):
     assert len(bank) == len(bank.missing()) > 4
     bank.build(workers=1, progress=False)
     assert bank.missing() == []
-    files = sorted(tmp_path.glob("*.npz"))
-    assert len(files) == len(bank)
+    files = sorted(bank.directory.glob("*.npz"))
+    assert len(files) == len(bank) and bank.directory.parent == tmp_path
     vf = bank.nearest((0.45, 0.55))
     assert np.allclose(vf.target, bank.targets[bank.nearest_index((0.45, 0.55))])
     assert np.hypot(*(vf.target - (0.45, 0.55))) <= 0.5 * np.sqrt(2) + 1e-9
@@ -36,7 +38,7 @@ def test_bank_builds_caches_and_finds_nearest(tmp_path, u_room):
     again = ValueFunctionBank(u_room, 1.0, clearance=0.05, cache_dir=tmp_path, **SMALL)
     assert again.key == bank.key and again.missing() == []
     # any change of geometry or parameters changes the key
-    moved = types.SimpleNamespace(boundary=u_room.boundary, obstacles=[u_room.obstacles[0] + 0.01], name="u-room")
+    moved = arenas.Arena.from_polygons(u_room.boundary, [u_room.obstacles[0] + 0.01], name="u-room")
     assert ValueFunctionBank(moved, 1.0, clearance=0.05, cache_dir=tmp_path, **SMALL).key != bank.key
     assert ValueFunctionBank(u_room, 1.0, clearance=0.05, cache_dir=tmp_path, **dict(SMALL, rho=0.21)).key != bank.key
     with pytest.raises(PlanningError):
@@ -51,9 +53,32 @@ def test_bank_in_parallel_processes(tmp_path):
     serial = ValueFunctionBank(((0, 1), (0, 1)), 0.5, cache_dir=tmp_path / "serial", **SMALL)
     serial.build(workers=1, progress=False)
     a, b = bank.nearest((0.2, 0.2)), serial.nearest((0.2, 0.2))
-    finite = np.isfinite(a.values)
-    assert np.array_equal(finite, np.isfinite(b.values))
-    assert np.abs(a.values[finite] - b.values[finite]).max() < 0.02
+    direct = solve(((0, 1), (0, 1)), tuple(a.target), **SMALL)
+    finite = np.isfinite(direct.values)
+    for vf in (a, b):
+        assert np.array_equal(finite, np.isfinite(vf.values))
+        assert np.abs(vf.values[finite] - direct.values[finite]).max() < 1e-3
+
+
+def test_cache_directory_info_and_clear(tmp_path, monkeypatch):
+    monkeypatch.setenv("HJPLANNER_CACHE", str(tmp_path / "env-cache"))
+    assert default_cache_dir() == tmp_path / "env-cache"
+    bank = ValueFunctionBank(((0, 1), (0, 1)), 0.5, **SMALL)
+    assert bank.directory.parent == tmp_path / "env-cache"
+    bank.build(workers=1, progress=False)
+    legacy = tmp_path / "env-cache" / ("0123456789abcdef0123" + "_0000_0.5_0.5.npz")
+    legacy.write_bytes(b"x" * 100)
+    (tmp_path / "env-cache" / "notes.txt").write_text("not ours")
+    info = cache_info()
+    banks = [entry for entry in info if entry["key"] == bank.key]
+    assert len(banks) == 1 and banks[0]["files"] == banks[0]["targets"] == 4
+    assert banks[0]["params"]["h"] == 0.1 and banks[0]["domain"] == "rect[0,1]x[0,1]"
+    expected = sum(f.stat().st_size for f in bank.directory.iterdir())
+    assert banks[0]["bytes"] == expected
+    assert [entry["bytes"] for entry in info if entry["key"] == "legacy"] == [100]
+    assert clear_cache() == expected + 100
+    assert cache_info() == [] and not bank.directory.exists() and not legacy.exists()
+    assert (tmp_path / "env-cache" / "notes.txt").exists()  # only hjplanner's own files go
 
 
 def test_on_demand_planner_lru():

@@ -20,17 +20,28 @@ def test_solve_then_path(tmp_path, capsys):
     assert main(["path", "--value", str(out), "--start=-0.7,0.2,10", "--plot", str(plot)]) == 0
     summary = json.loads(capsys.readouterr().out.splitlines()[0])
     assert summary["reached"] and abs(summary["length"] - summary["phi_start"]) < 0.15
-    assert plot.stat().st_size > 1000
+    assert summary["phi_start"] == pytest.approx(float(vf(-0.7, 0.2, np.radians(10))))
+    lengths = [float(word[1:]) for word in summary["controls"].split()]
+    assert sum(lengths) == pytest.approx(summary["length"], abs=0.01)
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_bank_command(tmp_path, capsys):
-    assert main(["bank", "--bounds", "0,1,0,1", "--spacing", "0.5", "--rho", "0.2", "--h", "0.1", "--ntheta", "16",
-                 "--cache", str(tmp_path), "--workers", "1", "--quiet"]) == 0
+def test_bank_command_and_cache(tmp_path, monkeypatch, capsys):
+    argv = ["bank", "--bounds", "0,1,0,1", "--spacing", "0.5", "--rho", "0.2", "--h", "0.1", "--ntheta", "16",
+            "--workers", "1", "--quiet"]
+    assert main(argv + ["--cache", str(tmp_path)]) == 0
     assert "bank of 4 targets" in capsys.readouterr().out
-    assert len(list(tmp_path.glob("*.npz"))) == 4
-    assert main(["bank", "--bounds", "0,1,0,1", "--spacing", "0.5", "--rho", "0.2", "--h", "0.1", "--ntheta", "16",
-                 "--cache", str(tmp_path), "--workers", "1", "--quiet"]) == 0
+    assert len(list(tmp_path.glob("*/*.npz"))) == 4
+    monkeypatch.setenv("HJPLANNER_CACHE", str(tmp_path))  # the same cache through the environment
+    assert main(argv) == 0
     assert "0 solved" in capsys.readouterr().out
+    size = sum(f.stat().st_size for f in tmp_path.glob("*/*"))
+    assert main(["cache", "--info"]) == 0
+    out = capsys.readouterr().out
+    assert "1 bank" in out and f"{size / 1e6:.2f} MB" in out and "rect[0,1]x[0,1]" in out
+    assert main(["cache", "--clear", "--cache", str(tmp_path)]) == 0
+    assert "freed" in capsys.readouterr().out
+    assert list(tmp_path.glob("*/*.npz")) == []
 
 
 @pytest.mark.parametrize("argv, message", [
@@ -49,6 +60,7 @@ def test_bank_command(tmp_path, capsys):
     (["solve", "--bounds", "0,1,0,1", "--rho", "0.2", "--out", "v.npz"], "required: --target"),
     (["path", "--value", "missing.npz", "--start", "1,2,3"], "does not exist"),
     (["frobnicate"], "invalid choice"),
+    (["cache", "--info", "--clear"], "not allowed with argument"),
     ([], "usage"),
 ])
 def test_errors_are_messages(tmp_path, monkeypatch, capsys, argv, message):

@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 
 from hjplanner import PlanningError, optimal_path, point_distance, steering
-from hjplanner._grid import distance_to_polygon_edges
 from hjplanner.paths import arc_step
 
 RHO = 0.3
@@ -56,12 +55,11 @@ def test_straight_ahead_path(reference_vf):
 def test_paths_avoid_nonconvex_obstacle(u_room, u_room_vf):
     starts = [(0.5, 1.5, 0.0), (2.0, 1.6, np.pi / 2), (0.4, 0.4, np.pi / 2), (1.0, 2.7, -0.5), (3.5, 2.6, np.pi)]
     for start in starts:
-        path = u_room_vf.path(start)
+        path = u_room_vf.path(start, ds=0.005)
         assert path.reached, start
-        d = distance_to_polygon_edges(path.xy, u_room.obstacles[0])
-        assert d.min() > 0.05 - u_room_vf.grid.h, start  # clearance, up to one cell
-        walls = distance_to_polygon_edges(path.xy, u_room.boundary)
-        assert walls.min() > 0.0
+        # the arena's geometry is the oracle: every sample keeps the full clearance of 0.05
+        assert u_room.contains(path.xy, 0.05).all(), start
+        assert u_room.wall_distance(path.xy).min() >= 0.05, start
         assert _turning_radius_respected(path, 0.25)
         assert abs(path.length - path.value_start) < 0.1 * path.value_start + 0.1
 
@@ -93,6 +91,19 @@ def test_steering_law_signs(coarse_vf):
         steering(coarse_vf, (0.0, 0.0))
     with pytest.raises(PlanningError):
         steering(coarse_vf, (0.0, 0.0, 0.0), dead_band=-1)
+    with pytest.raises(PlanningError, match="direction must be 1"):
+        steering(coarse_vf, (-0.6, 0.0, 0.5), direction=0)
+
+
+def test_reverse_steering_lowers_phi():
+    """Backing up, the law's steering lowers φ most of the three (arc_step as the car's motion)."""
+    from hjplanner import solve
+    vf = solve(((-1, 1), (-1, 1)), (0, 0), RHO, 0.04, 32, reverse=True)
+    for pose in [(0.6, 0.3, 0.0), (0.6, 0.0, 0.5), (0.6, -0.2, 0.4)]:  # the target is behind the car
+        u = steering(vf, pose, direction=-1)
+        assert u == -steering(vf, pose, direction=1) != 0
+        after = {w: float(vf(*arc_step(pose, w, -1, 0.05, RHO)[0])) for w in (-1, 0, 1)}
+        assert after[u] == min(after.values()) < float(vf(*pose))
 
 
 def test_feedback_drives_noisy_car_to_target(reference_vf):
@@ -114,3 +125,43 @@ def test_feedback_drives_noisy_car_to_target(reference_vf):
         assert driven < point_distance(*start, RHO) + 0.2
         switches = np.count_nonzero(np.diff(commands))
         assert switches < 0.5 * len(commands)
+
+
+def test_zig_zag_is_merged_into_a_straight_run(reference_vf):
+    """S 0.5, L 0.04, R 0.04, S 0.18 towards the target: the zig-zag the car cannot drive becomes straight."""
+    from hjplanner import PlannedPath, merge_short_segments
+    runs = [(0, 0.5), (1, 0.04), (-1, 0.04), (0, 0.18)]
+    steering_, steps = [], []
+    for u, length in runs:
+        n = int(round(length / 0.01))
+        steering_ += [u] * n
+        steps += [length / n] * n
+    poses = [np.array([-0.8, 0.0, 0.0])]
+    for u, step in zip(steering_, steps):
+        poses.append(arc_step(poses[-1], u, 1, step, RHO)[0])
+    path = PlannedPath(np.array(poses), np.array(steering_), np.ones(len(steps), int), np.array(steps), 0.01, True,
+                       0.8)
+    assert [u for u, _, _ in path.segments] == [0, 1, -1, 0]
+    merged = merge_short_segments(reference_vf, path, min_segment=0.1, stop_tol=0.04)
+    assert len(merged.segments) == 1
+    u, v, length = merged.segments[0]
+    assert (u, v) == (0, 1) and length == pytest.approx(0.76)
+    assert merged.reached and np.hypot(*merged.xy[-1]) == pytest.approx(0.04, abs=1e-9)
+
+
+def test_short_runs_are_merged_where_the_path_stays_valid(u_room, u_room_vf):
+    """Default paths merge most runs shorter than 2 h; the path stays clear (arena oracle) and arrives.
+
+    In this tight room (turning radius 0.25 in gaps of 0.6) a merge that
+    turns the rest of the path by a few degrees often misses the target,
+    so some short runs stay: measured 6, 21, 14, 9 short runs before and
+    3, 9, 4, 2 after.
+    """
+    h = u_room_vf.grid.h
+    for start in [(0.5, 1.5, 0.0), (0.4, 0.4, np.pi / 2), (1.0, 2.7, -0.5), (3.5, 2.6, np.pi)]:
+        raw = u_room_vf.path(start, min_segment=0)
+        path = u_room_vf.path(start)
+        n_short = [sum(length < 2 * h for _, _, length in p.segments) for p in (raw, path)]
+        assert n_short[1] <= n_short[0] / 2 and len(path.segments) < len(raw.segments), (start, n_short)
+        assert path.reached and u_room.contains(path.xy, 0.05).all(), start
+        assert abs(path.length - raw.length) < 2 * h, start

@@ -1,15 +1,14 @@
 """The semi-Lagrangian HJ solver: accuracy, convergence order, obstacles, Reeds-Shepp, validation."""
 
-import types
 import warnings
 
 import numpy as np
 import pytest
 
+import arenas
 from hjplanner import (PlanningError, SolverOptions, ValueFunction, half_plane_distance, point_distance,
                        reeds_shepp_line_distance, solve)
-from hjplanner._grid import distance_to_polygon_edges, make_grid
-from hjplanner.solver import solve_on_grid
+from hjplanner.solver import prepare, solve_on_grid
 
 RHO = 0.3
 SQUARE = ((-1.0, 1.0), (-1.0, 1.0))
@@ -69,11 +68,12 @@ def test_half_plane_convergence_order(reverse, min_order):
     exact = exact_fn(poses[:, 0], poses[:, 2], RHO, 0.5)
     hs, errors = [0.1, 0.05, 0.025], []
     for h, ntheta in zip(hs, [16, 32, 64]):
-        grid, free, _, _ = make_grid(((-1, 1), (-2, 2)), h, ntheta, 0.0)
+        ws = prepare(((-1, 1), (-2, 2)), RHO, h, ntheta, reverse=reverse)
+        grid = ws.grid
         bc = np.full((ntheta, grid.nx, grid.ny), np.inf)
         bc[:, grid.x >= 0.5 - 1e-12, :] = 0.0
-        phi, _ = solve_on_grid(grid, free, bc, RHO, SolverOptions(), reverse)
-        vf = ValueFunction(phi, grid, free, dict(target=[0.5, 0.0], rho=RHO, reverse=reverse))
+        phi, _ = solve_on_grid(ws, bc)
+        vf = ValueFunction(phi, grid, ws.free, ws.distance, dict(target=[0.5, 0.0], rho=RHO, reverse=reverse))
         errors.append(np.abs(vf(poses[:, 0], poses[:, 1], poses[:, 2]) - exact).mean())
     assert errors[-1] < 0.006
     assert _observed_order(hs, errors) > min_order
@@ -103,7 +103,9 @@ def test_obstacles_block_and_no_nan(u_room, u_room_vf):
     assert not np.isnan(vf.values).any()
     gx, gy = np.meshgrid(vf.grid.x, vf.grid.y, indexing="ij")
     points = np.column_stack([gx.ravel(), gy.ravel()])
-    near = distance_to_polygon_edges(points, u_room.obstacles[0]).reshape(gx.shape) < 0.05 - 1e-9
+    # the arena's own geometry is the oracle: nodes inside the obstacle or its clearance are +inf
+    near = ~u_room.contains(points, 0.05).reshape(gx.shape)
+    assert near.sum() > 300
     assert np.isinf(vf.values[near]).all()
     # inside the U (open at the top) is reachable, e.g. heading up out of it
     assert np.isfinite(vf(2.0, 1.5, np.pi / 2))
@@ -113,16 +115,25 @@ def test_obstacles_block_and_no_nan(u_room, u_room_vf):
     assert finite.mean() > 0.5
 
 
+def test_free_nodes_follow_the_arena_geometry(paper):
+    """Free nodes are exactly the nodes the arena's contains() accepts at the clearance."""
+    ws = prepare(paper, 15.0, 2.0, 16, clearance=4.0)
+    points = ws.grid.nodes()
+    np.testing.assert_array_equal(ws.free.ravel(), paper.contains(points, 4.0))
+    inside = paper.contains(points)
+    np.testing.assert_allclose(np.abs(ws.distance.ravel()), paper.wall_distance(points))
+    assert (ws.distance.ravel()[~inside] <= 0).all() and (ws.distance.ravel()[inside] >= 0).all()
+
+
 def test_enclosed_region_is_unreachable():
-    ring = types.SimpleNamespace(
-        boundary=np.array([[0, 0], [3, 0], [3, 3], [0, 3]], float),
-        obstacles=[np.array([[1.0, 1.0], [2.0, 1.0], [2.0, 1.1], [1.0, 1.1]]),
-                   np.array([[1.0, 1.9], [2.0, 1.9], [2.0, 2.0], [1.0, 2.0]]),
-                   np.array([[1.0, 1.0], [1.1, 1.0], [1.1, 2.0], [1.0, 2.0]]),
-                   np.array([[1.9, 1.0], [2.0, 1.0], [2.0, 2.0], [1.9, 2.0]])],
+    ring = arenas.Arena.from_polygons(
+        [[0, 0], [3, 0], [3, 3], [0, 3]],
+        [[[1.0, 1.0], [2.0, 1.0], [2.0, 2.0], [1.0, 2.0], [1.0, 1.895], [1.9, 1.895], [1.9, 1.1], [1.1, 1.1],
+          [1.1, 1.88], [1.0, 1.88]]],
         name="ring")
     vf = solve(ring, (0.5, 0.5), 0.1, 0.025, 32)
     assert not np.isnan(vf.values).any()
+    # the slot (1.0..1.1) x (1.88..1.895) into the ring holds no grid node: nothing gets in
     inside = (vf.grid.x[:, None] > 1.15) & (vf.grid.x[:, None] < 1.85) & (vf.grid.y[None, :] > 1.15) & (
         vf.grid.y[None, :] < 1.85)
     assert np.isinf(vf.values[inside]).all()
@@ -152,8 +163,8 @@ def test_unreachable_state_facing_a_wall():
     (dict(target=(3.0, 0.0)), "outside the domain"),
     (dict(target=(0.0,)), "target must be a point"),
     (dict(domain=((1, 0), (0, 1))), "x0 < x1"),
-    (dict(domain="paper"), "domain must be an Arena or rectangle"),
-    (dict(clearance=-1.0), "clearance must be >= 0"),
+    (dict(domain="paper"), "domain must be an arenas.Arena or rectangle"),
+    (dict(clearance=-1.0), "clearance must be a finite number >= 0"),
     (dict(h=1.5), "too coarse"),
 ])
 def test_invalid_inputs(kwargs, message):
@@ -168,7 +179,6 @@ def test_target_in_obstacle(u_room):
         solve(u_room, (2.0, 0.9), 0.25, 0.05, 16)
     with pytest.raises(PlanningError, match="clearance"):
         solve(u_room, (0.02, 1.5), 0.25, 0.05, 16, clearance=0.1)
-    assert issubclass(PlanningError, ValueError)
 
 
 def test_sweeps_converge_and_threads_agree():
