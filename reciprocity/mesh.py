@@ -9,6 +9,10 @@ optimal order, so the local mesh size is graded as ``h(r) = h * (r/R)**gamma`` w
 
 from __future__ import annotations
 
+import hashlib
+import os
+from pathlib import Path
+
 import numpy as np
 import skfem
 import triangle
@@ -18,7 +22,7 @@ from arenas import Arena
 
 from .errors import MeshError
 
-__all__ = ["mesh_free_region", "reentrant_corners", "triangle_areas", "node_areas"]
+__all__ = ["mesh_free_region", "cached_mesh", "cache_dir", "reentrant_corners", "triangle_areas", "node_areas"]
 
 # Triangle's max-area bound giving a mean edge length close to h with 30-degree quality
 # (measured: an area bound of sqrt(3)/4 h^2 yields a mean edge of 0.82 h)
@@ -145,3 +149,48 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
     if len(t) == 0:
         raise MeshError("Triangle produced no elements; check the arena geometry")
     return skfem.MeshTri(np.ascontiguousarray(p.T), np.ascontiguousarray(t.T))
+
+
+#: Bumped whenever :func:`mesh_free_region` would produce a different mesh.
+MESH_FORMAT = 1
+
+
+def cache_dir() -> Path | None:
+    """Where meshes are cached: ``$RECIPROCITY_CACHE`` (``off`` disables the cache), else
+    ``~/.cache/reciprocity``."""
+    env = os.environ.get("RECIPROCITY_CACHE")
+    if env is not None and env.strip().lower() in ("off", "0", "none", ""):
+        return None
+    return Path(env).expanduser() if env else Path.home() / ".cache" / "reciprocity"
+
+
+def cached_mesh(arena: Arena, h: float, *, grading: float | None = 0.5) -> skfem.MeshTri:
+    """:func:`mesh_free_region`, kept on disk by the arena's geometry, `h` and `grading`.
+
+    Triangle is deterministic, so a cached mesh is the mesh that would be made; it saves
+    0.4-1.5 s per arena and mesh size at start-up. A cache that cannot be read or written
+    is passed over silently (the mesh is then made as usual).
+    """
+    folder = cache_dir()
+    if folder is None:
+        return mesh_free_region(arena, h, grading=grading)
+    key = hashlib.sha256()
+    key.update(f"{MESH_FORMAT}|{triangle.__version__ if hasattr(triangle, '__version__') else ''}|"
+               f"{float(h)!r}|{grading!r}|{arena.circle!r}".encode())
+    for ring in (arena.boundary, *arena.obstacles):
+        key.update(np.ascontiguousarray(ring, dtype=float).tobytes())
+    path = folder / "meshes" / f"{key.hexdigest()[:32]}.npz"
+    try:
+        with np.load(path) as data:
+            return skfem.MeshTri(np.ascontiguousarray(data["p"]), np.ascontiguousarray(data["t"]))
+    except (OSError, KeyError, ValueError):
+        pass
+    mesh = mesh_free_region(arena, h, grading=grading)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
+        np.savez(tmp, p=mesh.p, t=mesh.t)
+        os.replace(tmp, path)
+    except OSError:
+        pass
+    return mesh

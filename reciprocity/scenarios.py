@@ -32,6 +32,7 @@ import yaml
 import arenas
 
 from .errors import SearchError
+from .registry import LazyRegistry
 
 __all__ = ["Scenario", "WorldKind", "WORLD_KINDS", "register_world", "load_scenario",
            "scenario_names", "scenario_description"]
@@ -67,8 +68,13 @@ class WorldKind:
     default_start: Callable | None = None
 
 
-#: Registered world kinds by name.
-WORLD_KINDS: dict[str, WorldKind] = {}
+#: World kinds by name; a built-in kind's module is imported on first use of its name.
+WORLD_KINDS: LazyRegistry = LazyRegistry({
+    "poisson": "reciprocity.worlds.poisson_kind",
+    "lattice": "reciprocity.worlds.lattice_kind",
+    "plume": "reciprocity.worlds.plume_kind",
+    "filament": "reciprocity.worlds.filament_kind",
+})
 
 #: Built-in scenario files by name (filled by :func:`_scenario_files`).
 _FILES: dict[str, object] = {}
@@ -234,7 +240,6 @@ def load_scenario(name_or_path) -> Scenario:
     SearchError
         Unknown name, unreadable or malformed file, invalid parameters.
     """
-    from . import worlds  # noqa: F401  (registers the world kinds)
     text = str(name_or_path)
     if text in arenas.builtin_names():
         return from_dict({"world": "poisson", "arena": text, "name": text})

@@ -13,6 +13,19 @@ def _pixels_near(path, rgb, tol: int = 40) -> int:
     return int(np.all(np.abs(img.astype(int) - bgr) <= tol, axis=2).sum())
 
 
+@pytest.fixture(scope="session", autouse=True)
+def _private_cache(tmp_path_factory):
+    """Tests keep meshes in a cache of their own, never the user's."""
+    import os
+    old = os.environ.get("RECIPROCITY_CACHE")
+    os.environ["RECIPROCITY_CACHE"] = str(tmp_path_factory.mktemp("cache"))
+    yield
+    if old is None:
+        os.environ.pop("RECIPROCITY_CACHE", None)
+    else:
+        os.environ["RECIPROCITY_CACHE"] = old
+
+
 @pytest.fixture
 def pixels_near():
     """``pixels_near(path, (r, g, b), tol=40)``: how much of a figure shows a colour, so a

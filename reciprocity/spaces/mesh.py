@@ -18,7 +18,7 @@ from scipy.spatial import cKDTree
 
 from arenas import Arena
 
-from ..mesh import mesh_free_region, node_areas
+from ..mesh import cached_mesh, node_areas
 from .base import SearchSpace
 
 __all__ = ["MeshSpace", "mesh_space"]
@@ -53,7 +53,7 @@ class MeshSpace(SearchSpace):
 
     def __init__(self, arena: Arena, h: float = 1.0, grading: float | None = 0.5, *, mesh=None):
         self.arena, self.h = arena, float(h)
-        self.mesh = mesh if mesh is not None else mesh_free_region(arena, self.h, grading=grading)
+        self.mesh = mesh if mesh is not None else cached_mesh(arena, self.h, grading=grading)
         self.points = self.mesh.p.T
         self.triangles = self.mesh.t.T
         self.cell_areas = node_areas(self.points, self.triangles)

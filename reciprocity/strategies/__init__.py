@@ -1,17 +1,26 @@
 """Search strategies, selectable by name (:data:`STRATEGIES`)."""
 
+from ..registry import LazyRegistry
 from .base import MAX_REJECTIONS, SearchContext, Status, Strategy
-from .gradient import GradientStrategy, three_point_gradient
-from .random_walk import RandomWalkStrategy
-from .reciprocal import ReciprocityStrategy
 
 #: Strategy classes by the name used on the command line; each says the world kinds it
-#: applies to (``cls.worlds``) and how many observers it directs (``cls.agents``).
-STRATEGIES: dict[str, type[Strategy]] = {
-    "reciprocity": ReciprocityStrategy,
-    "gradient": GradientStrategy,
-    "random-walk": RandomWalkStrategy,
-}
+#: applies to (``cls.worlds``) and how many observers it directs (``cls.agents``). A
+#: built-in strategy's module is imported when its name is first looked up.
+STRATEGIES: LazyRegistry = LazyRegistry({
+    "reciprocity": "reciprocity.strategies.reciprocal:ReciprocityStrategy",
+    "gradient": "reciprocity.strategies.gradient:GradientStrategy",
+    "random-walk": "reciprocity.strategies.random_walk:RandomWalkStrategy",
+    "rbpf": "reciprocity.strategies.rbpf",
+    "rbpf-infotaxis": "reciprocity.strategies.rbpf",
+    "infotaxis": "reciprocity.strategies.infotaxis",
+    "free-energy": "reciprocity.strategies.infotaxis",
+    "mapless-infotaxis": "reciprocity.strategies.infotaxis",
+    "entrotaxis": "reciprocity.strategies.infotaxis",
+    "space-aware-infotaxis": "reciprocity.strategies.infotaxis",
+    "voi": "reciprocity.strategies.infotaxis",
+    "hmm": "reciprocity.strategies.hmm_search",
+    "surge-cast": "reciprocity.strategies.hmm_search",
+})
 
 
 def register(cls: type[Strategy]) -> type[Strategy]:
@@ -20,9 +29,16 @@ def register(cls: type[Strategy]) -> type[Strategy]:
     return cls
 
 
-from . import rbpf  # noqa: E402,F401  (registers "rbpf", "rbpf-infotaxis")
-from . import infotaxis  # noqa: E402,F401  (registers the plume strategies)
-from . import hmm_search  # noqa: E402,F401  (registers "hmm", "surge-cast")
+def __getattr__(name: str):
+    # the classes of the core strategies, imported on first use
+    lazy = {"GradientStrategy": "gradient", "three_point_gradient": "gradient",
+            "RandomWalkStrategy": "random-walk", "ReciprocityStrategy": "reciprocity"}
+    if name in lazy:
+        if name == "three_point_gradient":
+            from .gradient import three_point_gradient
+            return three_point_gradient
+        return STRATEGIES[lazy[name]]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 __all__ = ["GradientStrategy", "MAX_REJECTIONS", "RandomWalkStrategy", "ReciprocityStrategy",

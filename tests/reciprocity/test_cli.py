@@ -35,7 +35,7 @@ def test_run_writes_summary_json_and_figures(tmp_path, capsys, pixels_near):
     (["run", "--arena", "paper", "--strategy", "gradient", "--start", "a,b"], "comma-separated"),
     (["run", "--arena", "paper", "--strategy", "reciprocity", "--set", "eps"], "KEY=VALUE"),
     (["run", "--arena", "paper", "--strategy", "reciprocity", "--set", "colour=3", "--h", "5"],
-     "unknown parameter(s) colour for strategy 'reciprocity'; valid: eps, area_tol"),
+     "unknown parameter(s) colour for strategy 'reciprocity'; valid: "),
     (["run", "--arena", "paper", "--strategy", "reciprocity", "--seed", "-1"], "--seed must be a non-negative"),
     (["run", "--arena", "paper", "--strategy", "spiral"], "unknown strategy 'spiral'; choose one of"),
     (["run", "--scenario", "nowhere", "--strategy", "gradient"], "no built-in scenario or file"),
@@ -66,7 +66,7 @@ def test_bad_input_is_refused_before_any_heavy_work(monkeypatch, capsys):
     import reciprocity.spaces.mesh as mesh_mod
     def boom(*a, **k):
         raise AssertionError("meshed before validating")
-    monkeypatch.setattr(mesh_mod, "mesh_free_region", boom)
+    monkeypatch.setattr(mesh_mod, "cached_mesh", boom)
     assert main(["run", "--arena", "paper", "--strategy", "reciprocity", "--set", "eps=3", "--quiet"]) == 2
     assert "eps must lie strictly between 0 and 1" in capsys.readouterr().err
 

@@ -40,3 +40,21 @@ def test_grid_neighbours_and_masking():
     corner = g.index_of([[3.5, 1.5]])[0]      # its upper neighbours are masked
     assert sorted(g.points[g.neighbours(corner)].tolist()) == [[2.5, 0.5], [2.5, 1.5], [3.5, 0.5]]
     assert g.index_of([[3.5, 2.5], [9.0, 9.0]]).tolist() == [-1, -1]
+
+
+def test_mesh_cache_returns_the_mesh_it_would_make(tmp_path, monkeypatch):
+    from reciprocity.mesh import cached_mesh, mesh_free_region
+    arena = arenas.load("maze").without_scenario()
+    monkeypatch.setenv("RECIPROCITY_CACHE", str(tmp_path))
+    first = cached_mesh(arena, 4.0)
+    files = list((tmp_path / "meshes").glob("*.npz"))
+    assert len(files) == 1
+    again = cached_mesh(arena, 4.0)                    # read back from the file
+    fresh = mesh_free_region(arena, 4.0)
+    assert np.array_equal(again.p, fresh.p) and np.array_equal(again.t, fresh.t)
+    assert np.array_equal(first.t, fresh.t)
+    cached_mesh(arena, 3.0)                            # another h, another file
+    assert len(list((tmp_path / "meshes").glob("*.npz"))) == 2
+    monkeypatch.setenv("RECIPROCITY_CACHE", "off")
+    cached_mesh(arena, 5.0)
+    assert len(list((tmp_path / "meshes").glob("*.npz"))) == 2
