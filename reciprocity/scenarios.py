@@ -34,7 +34,7 @@ import arenas
 from .errors import SearchError
 from .registry import LazyRegistry
 
-__all__ = ["Scenario", "WorldKind", "WORLD_KINDS", "register_world", "load_scenario",
+__all__ = ["Scenario", "WorldKind", "WORLD_KINDS", "check_keys", "register_world", "load_scenario",
            "scenario_names", "scenario_description"]
 
 #: Keys every scenario file may have; the rest are the world's own parameters.
@@ -78,6 +78,14 @@ WORLD_KINDS: LazyRegistry = LazyRegistry({
 
 #: Built-in scenario files by name (filled by :func:`_scenario_files`).
 _FILES: dict[str, object] = {}
+
+
+def check_keys(params: dict, allowed, what: str) -> None:
+    """Refuse parameters not in `allowed`, naming the valid ones (``what``: e.g.
+    ``"plume world parameter"``)."""
+    unknown = set(params) - set(allowed)
+    if unknown:
+        raise SearchError(f"unknown {what}(s) {', '.join(sorted(unknown))}; choose from {', '.join(allowed)}")
 
 
 def register_world(kind: WorldKind) -> WorldKind:

@@ -7,7 +7,7 @@ from dataclasses import fields
 import numpy as np
 
 from ..errors import SearchError
-from ..scenarios import WorldKind, register_world
+from ..scenarios import WorldKind, check_keys, register_world
 from .filament import FilamentParams, FilamentWorld
 
 __all__ = ["FILAMENT", "FILAMENT_KEYS", "filament_params", "source_cell"]
@@ -36,10 +36,7 @@ def _pair(name, value) -> tuple:
 
 
 def _check(params: dict) -> dict:
-    unknown = set(params) - set(FILAMENT_KEYS)
-    if unknown:
-        raise SearchError(f"unknown filament world parameter(s) {', '.join(sorted(unknown))}; "
-                          f"choose from {', '.join(FILAMENT_KEYS)}")
+    check_keys(params, FILAMENT_KEYS, "filament world parameter")
     out = dict(params)
     d = FilamentParams()
     for k in _POSITIVE:

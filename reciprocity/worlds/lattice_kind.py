@@ -6,7 +6,7 @@ import numpy as np
 from scipy.sparse.csgraph import connected_components
 
 from ..errors import SearchError
-from ..scenarios import WorldKind, register_world
+from ..scenarios import WorldKind, check_keys, register_world
 from ..spaces.lattice import LatticeSpace
 from .lattice import PERCOLATION_THRESHOLD, LatticeWorld, draw_links
 
@@ -53,10 +53,7 @@ def _pair(params, key, default) -> tuple:
 
 
 def _check(params: dict) -> dict:
-    unknown = set(params) - set(LATTICE_KEYS)
-    if unknown:
-        raise SearchError(f"unknown lattice world parameter(s) {', '.join(sorted(unknown))}; "
-                          f"choose from {', '.join(LATTICE_KEYS)}")
+    check_keys(params, LATTICE_KEYS, "lattice world parameter")
     out = dict(params)
     out["radius"] = _number(params, "radius", 9, MIN_RADIUS, 1e3, f"a lattice radius R0 in [{MIN_RADIUS}, 1000]")
     out["p"] = _number(params, "p", 0.35, 0.0, PERCOLATION_THRESHOLD,

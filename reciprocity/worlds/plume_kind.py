@@ -36,7 +36,7 @@ from scipy.special import k0
 from scipy.stats import poisson
 
 from ..errors import SearchError
-from ..scenarios import WorldKind, register_world
+from ..scenarios import WorldKind, check_keys, register_world
 from .plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, plume_length
 
 __all__ = ["PLUME", "PLUME_KEYS", "hit_probabilities", "otto_max_hits", "otto_initial_hit_probabilities"]
@@ -90,10 +90,7 @@ def _num(params, key, default, *, positive=True, allow_zero=False, what=""):
 
 
 def _check(params: dict) -> dict:
-    unknown = set(params) - set(PLUME_KEYS)
-    if unknown:
-        raise SearchError(f"unknown plume world parameter(s) {', '.join(sorted(unknown))}; "
-                          f"choose from {', '.join(PLUME_KEYS)}")
+    check_keys(params, PLUME_KEYS, "plume world parameter")
     out = dict(params)
     b = params.get("bounds")
     try:

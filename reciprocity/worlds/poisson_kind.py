@@ -8,7 +8,7 @@ import arenas
 from arenas import Arena, ArenaError
 
 from ..errors import SearchError
-from ..scenarios import WorldKind, register_world
+from ..scenarios import WorldKind, check_keys, register_world
 from .poisson import Mismatch, PoissonWorld, TRUTH_MESH_RATIO
 
 __all__ = ["POISSON", "POISSON_KEYS"]
@@ -18,10 +18,7 @@ POISSON_KEYS = ("arena", "source", "strength", "noise", "truth_h", "mismatch")
 
 
 def _check(params: dict) -> dict:
-    unknown = set(params) - set(POISSON_KEYS)
-    if unknown:
-        raise SearchError(f"unknown poisson world parameter(s) {', '.join(sorted(unknown))}; "
-                          f"choose from {', '.join(POISSON_KEYS)}")
+    check_keys(params, POISSON_KEYS, "poisson world parameter")
     out = dict(params)
     a = params.get("arena")
     try:
