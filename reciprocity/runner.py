@@ -73,7 +73,6 @@ def search(arena: Arena, strategy: str = "reciprocity", *, source=None,
     if strength is not None:
         world["strength"] = strength
     sc = Scenario(arena.name, "poisson", {}, platform)
-    from .worlds.poisson_kind import POISSON  # noqa: F401
     sc = sc.with_world(world)
     if start is not None:
         sc = sc.with_world({"start": start})
