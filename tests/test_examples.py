@@ -42,3 +42,10 @@ def test_every_example_is_run_by_a_test():
         tested |= {p.stem for p in EXAMPLES.glob("*.py") if f'load("{p.stem}")' in text
                    or f"examples/{p.stem}.py" in text or f'"{p.stem}"' in text}
     assert tested == {p.stem for p in EXAMPLES.glob("*.py")}
+
+
+def test_lattice_figures(tmp_path, pixels_near):
+    load("lattice_figures").main(["--out", str(tmp_path), "--steps", "5", "--seed", "1"])
+    for name in ("lattice.png", "search.png"):
+        assert pixels_near(tmp_path / name, (255, 0, 0), 60) > 20           # the true source's star
+    assert pixels_near(tmp_path / "search.png", (255, 127, 14), 50) > 200   # the source particle cloud
