@@ -173,15 +173,15 @@ def _drive(client, pending, store: ResultStore, result: CampaignResult, bar, win
            flush_rows: int, flush_seconds: float) -> None:
     """Keep `window` episodes in flight; store rows in batches as they finish."""
     from distributed import as_completed
-    run_id = uuid.uuid4().hex[:8]
     inflight = {}
     finished = as_completed()
 
     def submit_next() -> None:
         task = next(pending, None)
         if task is not None:
-            fut = client.submit(run_task, task, key=f"{task.campaign}:{task.episode_id}:{run_id}",
-                                pure=False)
+            # one key prefix for every episode: the scheduler keeps a task group per prefix
+            # for its whole life, so per-episode prefixes grew the driver ~7 KB an episode
+            fut = client.submit(run_task, task, key=f"episode-{uuid.uuid4().hex}", pure=False)
             inflight[fut.key] = task
             finished.add(fut)
 
