@@ -75,12 +75,14 @@ def cmd_reproduce(args) -> int:
     if args.table is None:
         raise SearchError("name a table (reciprocity reproduce --list shows them)")
     out = args.out or f"reproduce_{args.table}"
-    table, result, rows = reproduce(args.table, out, runs=args.runs, workers=args.workers,
-                                    scheduler=args.scheduler, progress=_progress(args))
+    table, result, rows, files = reproduce(args.table, out, runs=args.runs, workers=args.workers,
+                                           scheduler=args.scheduler, progress=_progress(args))
     print(_ran(result))
     text = comparison_markdown(table, rows)
     (Path(out) / "comparison.md").write_text(text)
     print(text, end="")
+    if files:
+        print(f"figures: {', '.join(str(f) for f in files)}")
     return 0
 
 

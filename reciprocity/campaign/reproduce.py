@@ -2,35 +2,46 @@
 
 :data:`TABLES` maps a table name (``reciprocity reproduce --list``) to a
 :class:`PaperTable`: the campaign spec with the paper's set-up and the paper's numbers.
-Model engineers add theirs with :func:`register`::
+The tables live in :mod:`reciprocity.campaign.tables` (one module per paper) and are
+registered when this module is imported. A paper's table is added with
+:func:`register`::
 
     register(PaperTable(
         name="ristic2014-table1", title="...", reference="Ristic et al. (2014), Table 1",
         build_spec=lambda runs: {"strategies": ["rbpf"], "scenarios": ["ristic-lattice"],
                                  "seeds": runs},
-        paper=(PaperValue("rbpf", "steps", 123.0),), default_runs=100))
+        paper=(PaperValue("rbpf", "steps", 42.1, among="success"),
+               PaperValue("rbpf", "success", 0.94)), default_runs=100))
 
-Our numbers are means over the runs with a Student-t 95 % interval (Wilson for rates),
-computed by DuckDB over the campaign's Parquet files.
+Our numbers are means over the runs with a Student-t 95 % interval (Wilson for rates,
+i.e. boolean columns), computed by DuckDB over the campaign's Parquet files. A value may
+be averaged over the successful runs only (``among="success"``, the lattice and plume
+papers' "mean search time"), and may have no published number (``value=None``: a paper
+with figures only; printed as "–"). A table may write figures after its campaign
+(:attr:`PaperTable.after`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 from ..errors import SearchError
 from .execute import CampaignResult, run_campaign
 from .report import open_report_db
 from .spec import CampaignSpec, parse_spec
 
-__all__ = ["PaperValue", "PaperTable", "TABLES", "register", "reproduce", "compare",
+__all__ = ["PaperValue", "PaperTable", "TABLES", "AMONG", "register", "reproduce", "compare",
            "comparison_markdown"]
+
+#: Which runs a value averages: all finished runs (None) or the successful ones.
+AMONG = (None, "success")
 
 
 @dataclass(frozen=True)
 class PaperValue:
-    """One number of a published table.
+    """One number of a published table (or one of ours the paper has no number for).
 
     Attributes
     ----------
@@ -38,17 +49,45 @@ class PaperValue:
         Strategy variant label in the campaign (``"reciprocity"``, ``"rbpf[n=500]"``).
     metric : str
         Result column: ``n_measurements``, ``n_samples``, ``steps``, ``error``,
-        ``path_length``, ``sim_time_s``, ``success``, ...
-    value : float
-        The paper's value, in the column's unit (a rate as a fraction).
+        ``path_length``, ``sim_time_s``, ``success``, ``messages``,
+        ``distance_at_stop``, ... A boolean column is a rate (Wilson interval).
+    value : float or None
+        The paper's value, in the column's unit (a rate as a fraction); None when the
+        paper prints no number for it (printed as "–").
     scenario : str, optional
         Scenario label, when the campaign has several.
+    among : {None, "success"}
+        Average over all finished runs (None) or over the successful runs only.
+    pm : float, optional
+        The ± the paper prints beside `value` (its own convention; see the table's note).
+    row : str, optional
+        Row label in the printed table (default: ``variant (scenario)``).
+
+    Raises
+    ------
+    SearchError
+        `among` not in :data:`AMONG`.
     """
 
     variant: str
     metric: str
-    value: float
+    value: float | None
     scenario: str | None = None
+    among: str | None = None
+    pm: float | None = None
+    row: str | None = None
+
+    def __post_init__(self):
+        if self.among not in AMONG:
+            raise SearchError(f"PaperValue among must be None (all runs) or 'success'; "
+                              f"got {self.among!r}")
+
+    @property
+    def label(self) -> str:
+        """The row label."""
+        if self.row is not None:
+            return self.row
+        return self.variant if self.scenario is None else f"{self.variant} ({self.scenario})"
 
 
 @dataclass(frozen=True)
@@ -67,11 +106,16 @@ class PaperTable:
         ``build_spec(runs) -> dict``: the campaign spec mapping (see
         :mod:`reciprocity.campaign.spec`) with `runs` seeds.
     paper : tuple of PaperValue
-        The paper's numbers.
+        The paper's numbers (and ours it has none for), in print order.
     default_runs : int
         Seeds when ``--runs`` is not given.
     note : str
-        Caveats printed under the comparison (e.g. a single run in the paper).
+        Caveats printed under the comparison (settings that differ from the paper's,
+        what the paper's ± means, why numbers differ).
+    after : callable, optional
+        ``after(directory, spec) -> list of Path``: called once the campaign is complete
+        (e.g. the paper's figures, example tracks); writes under `directory` and returns
+        the files written.
     """
 
     name: str
@@ -81,6 +125,7 @@ class PaperTable:
     paper: tuple[PaperValue, ...]
     default_runs: int = 20
     note: str = ""
+    after: Callable[[Path, CampaignSpec], list[Path]] | None = None
 
     def spec(self, runs: int | None = None) -> CampaignSpec:
         """The validated campaign with `runs` seeds (default :attr:`default_runs`)."""
@@ -124,39 +169,80 @@ def compare(table: PaperTable, directory) -> list[dict]:
     Returns
     -------
     list of dict
-        Per paper value: ``variant``, ``scenario``, ``metric``, ``paper``, ``runs``,
-        ``ours`` (mean, or rate), ``lo``, ``hi`` (95 % interval).
+        Per paper value: ``label``, ``variant``, ``scenario``, ``metric``, ``among``,
+        ``rate`` (a boolean column), ``paper``, ``pm``, ``runs`` (the runs averaged),
+        ``of`` (all finished runs of the row), ``ours`` (mean, or rate), ``lo``, ``hi``
+        (95 % interval; None with fewer than two runs for a mean).
     """
     con = open_report_db(directory)
+    types = {name: typ for name, typ, *_ in con.execute("DESCRIBE runs").fetchall()}
     out = []
     for pv in table.paper:
         where = "variant = $v AND ($s IS NULL OR scenario = $s)"
-        if pv.metric == "success":
-            sql = (f"SELECT count(*), avg(success::INT), wilson(count(*) FILTER (WHERE success), "
-                   f"count(*), -1), wilson(count(*) FILTER (WHERE success), count(*), 1) "
+        params = {"v": pv.variant, "s": pv.scenario}
+        of = con.execute(f"SELECT count(*) FROM runs WHERE {where}", params).fetchone()[0]
+        if pv.among == "success":
+            where += " AND success"
+        rate = types.get(pv.metric) == "BOOLEAN"
+        if pv.metric not in types:          # no episode reported it
+            n, mean, lo, hi = 0, None, None, None
+        elif rate:
+            col = f'"{pv.metric}"'
+            k, n = f"count(*) FILTER (WHERE {col})", f"count({col})"
+            sql = (f"SELECT {n}, avg({col}::INT), wilson({k}, {n}, -1), wilson({k}, {n}, 1) "
                    f"FROM runs WHERE {where}")
+            n, mean, lo, hi = con.execute(sql, params).fetchone()
         else:
             col = f'"{pv.metric}"::DOUBLE'
             half = f"t975(count({col}) - 1) * stddev_samp({col}) / sqrt(count({col}))"
             sql = (f"SELECT count({col}), avg({col}), avg({col}) - {half}, avg({col}) + {half} "
                    f"FROM runs WHERE {where}")
-        n, mean, lo, hi = con.execute(sql, {"v": pv.variant, "s": pv.scenario}).fetchone()
-        out.append(dict(variant=pv.variant, scenario=pv.scenario, metric=pv.metric,
-                        paper=pv.value, runs=n, ours=mean, lo=lo, hi=hi))
+            n, mean, lo, hi = con.execute(sql, params).fetchone()
+        out.append(dict(label=pv.label, variant=pv.variant, scenario=pv.scenario,
+                        metric=pv.metric, among=pv.among, rate=rate, paper=pv.value, pm=pv.pm,
+                        runs=n, of=of, ours=mean, lo=lo, hi=hi))
     return out
 
 
+def _digits(x) -> int:
+    """Decimals for a mean of magnitude `x`: 2 below 100, 1 below 10⁴, else 0."""
+    return 2 if x is None or x != x or abs(x) < 100 else 1 if abs(x) < 1e4 else 0
+
+
+def _num(x, digits: int = 2) -> str:
+    return "–" if x is None or x != x else f"{x:.{digits}f}"
+
+
+def _paper(x) -> str:
+    return "–" if x is None else f"{x:g}"
+
+
+def _pct(x) -> str:
+    return "–" if x is None or x != x else f"{100 * x:.0f} %"
+
+
 def comparison_markdown(table: PaperTable, rows: list[dict]) -> str:
-    """The comparison as a Markdown table, with the table's title and note."""
-    def f(x):
-        return "–" if x is None or x != x else f"{x:.2f}"
+    """The comparison as a Markdown table, with the table's title and note.
+
+    Rates print as percentages; a value the paper has no number for prints "–"; a value
+    averaged over the successful runs says so in the metric column and counts
+    ``runs of all``.
+    """
     lines = [f"{table.reference}: {table.title}", "",
-             "| strategy | metric | paper | ours (mean) | 95 % CI | runs |",
+             "| row | metric | paper | ours | 95 % CI | runs |",
              "|---|---|---:|---:|---|---:|"]
     for r in rows:
-        what = r["variant"] if r["scenario"] is None else f"{r['variant']} ({r['scenario']})"
-        lines.append(f"| {what} | {r['metric']} | {f(r['paper'])} | {f(r['ours'])} | "
-                     f"[{f(r['lo'])}, {f(r['hi'])}] | {r['runs']} |")
+        d = _digits(r["ours"])                  # ours and its interval alike
+
+        def f(x, rate=r["rate"], d=d):
+            return _pct(x) if rate else _num(x, d)
+        paper = _pct(r["paper"]) if r["rate"] else _paper(r["paper"])
+        if r["pm"] is not None and r["paper"] is not None:
+            paper += f" ± {_pct(r['pm']) if r['rate'] else _paper(r['pm'])}"
+        metric = r["metric"] + (" (successful runs)" if r["among"] == "success" else "")
+        runs = f"{r['runs']} of {r['of']}" if r["among"] == "success" else f"{r['runs']}"
+        lines.append(f"| {r['label']} | {metric} | {paper} | {f(r['ours'])} | "
+                     f"[{f(r['lo'])}, {f(r['hi'])}] | {runs} |")
     if table.note:
         lines += ["", table.note]
     return "\n".join(lines) + "\n"
@@ -164,7 +250,7 @@ def comparison_markdown(table: PaperTable, rows: list[dict]) -> str:
 
 def reproduce(name: str, directory, *, runs: int | None = None, workers: int | None = None,
               scheduler: str | None = None, progress: bool | None = None
-              ) -> tuple[PaperTable, CampaignResult, list[dict]]:
+              ) -> tuple[PaperTable, CampaignResult, list[dict], list[Path]]:
     """Run (or resume) the campaign of table `name` and compare it with the paper.
 
     Parameters
@@ -180,29 +266,19 @@ def reproduce(name: str, directory, *, runs: int | None = None, workers: int | N
 
     Returns
     -------
-    (PaperTable, CampaignResult, list of dict)
-        The table, what the run did, and :func:`compare`'s rows.
+    (PaperTable, CampaignResult, list of dict, list of Path)
+        The table, what the run did, :func:`compare`'s rows, and the files the table's
+        :attr:`PaperTable.after` wrote (empty without one).
     """
     table = _table(name)
     if runs is not None and runs < 1:
         raise SearchError(f"--runs must be at least 1; got {runs}")
-    result = run_campaign(table.spec(runs), directory, workers=workers, scheduler=scheduler,
+    spec = table.spec(runs)
+    result = run_campaign(spec, directory, workers=workers, scheduler=scheduler,
                           progress=progress)
-    return table, result, compare(table, directory)
+    rows = compare(table, directory)
+    files = list(table.after(Path(directory), spec)) if table.after is not None else []
+    return table, result, rows, files
 
 
-register(PaperTable(
-    name="landa2020-testbed",
-    title="reciprocity search vs gradient ascent on the car testbed, from the paper arena's "
-          "start to its source",
-    reference="Landa et al. (2020), testbed experiment (Sec. 5)",
-    build_spec=lambda runs: {"strategies": ["reciprocity", "gradient"], "scenarios": ["paper"],
-                             "platform": "car", "seeds": runs},
-    paper=(PaperValue("reciprocity", "n_measurements", 7.0),
-           PaperValue("reciprocity", "error", 4.35),
-           PaperValue("gradient", "n_samples", 18.0),
-           PaperValue("gradient", "error", 5.0)),
-    default_runs=20,
-    note="The paper reports a single run of each strategy (no interval); our runs differ in "
-         "the sensor noise and the car's actuation only (same arena, source and start).",
-))
+from . import tables  # noqa: E402,F401  (registers the papers' tables; they import this module)

@@ -19,6 +19,8 @@ A specification is a YAML mapping (read with ``yaml.safe_load``)::
         label: maze-noisy          # optional: the name used in results (default: the name)
         world: {noise: 20}         # optional: overrides of the world (mismatch options)
         random_source: false       # optional: per scenario
+      - name: farrell
+        random_start: true         # optional: ignore the scenario's start (see below)
 
 A list value in a strategy mapping is a grid axis: the variants are the cartesian
 product of all axes (to pass a list as a single value, wrap it: ``[[1, 2]]``).
@@ -27,10 +29,17 @@ product of all axes (to pass a list as a single value, wrap it: ``[[1, 2]]``).
 least :data:`SOURCE_CLEARANCE` cm from the walls and the start at least
 :data:`START_CLEARANCE` cm from them with a uniform heading, from a stream derived from
 the episode seed, so all strategies of a scenario meet the same world on the same seed.
+
+``random_start: true`` (per scenario, any world kind with a default start): the
+scenario's ``start`` is dropped, so every episode starts where the world kind's
+``default_start(world, rng)`` puts it, drawn from the episode seed
+(:meth:`reciprocity.scenarios.Scenario.start_poses`): all strategies of a scenario start
+from the same place on the same seed index, a new place on every index.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import inspect
 import itertools
@@ -44,10 +53,10 @@ import numpy as np
 import yaml
 
 from ..errors import SearchError
-from ..scenarios import load_scenario, scenario_names
+from ..scenarios import Scenario, load_scenario, scenario_names
 
 __all__ = ["CampaignSpec", "ScenarioEntry", "StrategyVariant", "EpisodeTask", "load_spec",
-           "parse_spec", "episode_seed", "SOURCE_CLEARANCE", "START_CLEARANCE"]
+           "parse_spec", "episode_seed", "entry_scenario", "SOURCE_CLEARANCE", "START_CLEARANCE"]
 
 #: Minimum wall distance of a drawn source, cm: closer to a Dirichlet wall the signal is
 #: buried in the noise everywhere.
@@ -57,7 +66,7 @@ START_CLEARANCE = 5.0
 
 _TOP_KEYS = {"name", "seed", "seeds", "platform", "agents", "random_source", "strategies",
              "scenarios"}
-_SCENARIO_KEYS = {"name", "label", "world", "random_source"}
+_SCENARIO_KEYS = {"name", "label", "world", "random_source", "random_start"}
 _LABEL = re.compile(r"^[A-Za-z][A-Za-z0-9_.+-]*$")
 
 
@@ -96,6 +105,8 @@ class ScenarioEntry:
         Draw the true source and start per seed index.
     file_digest : str or None
         SHA-256 of the scenario file (None for a built-in), part of the spec hash.
+    random_start : bool
+        Drop the scenario's start: the world kind's default start, drawn per episode seed.
     """
 
     ref: str
@@ -103,6 +114,7 @@ class ScenarioEntry:
     world: dict
     random_source: bool
     file_digest: str | None = None
+    random_start: bool = False
 
 
 @dataclass(frozen=True)
@@ -303,7 +315,9 @@ def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
                   strategies={v.label: {"strategy": v.strategy, "params": v.params}
                               for v in variants},
                   scenarios=[dict(ref=s.ref, label=s.label, world=s.world,
-                                  random_source=s.random_source, file_digest=s.file_digest)
+                                  random_source=s.random_source, file_digest=s.file_digest,
+                                  # only when set: the hashes of earlier campaigns stay valid
+                                  **({"random_start": True} if s.random_start else {}))
                              for s in scenarios])
     _jsonable(source)
     return CampaignSpec(name, seed, seeds, platform, agents, tuple(variants), tuple(scenarios),
@@ -409,7 +423,14 @@ def _scenarios(scenarios, random_source: bool, base_dir: Path) -> list[ScenarioE
         if rs and ({"source", "start"} & set(world)):
             raise SearchError(f"scenario {label!r}: random_source draws the source and start; "
                               "remove them from world or set random_source: false")
-        out.append(ScenarioEntry(ref, label, dict(world), rs, digest))
+        rst = _bool(entry.get("random_start", False), f"random_start of {label!r}")
+        if rst and rs:
+            raise SearchError(f"scenario {label!r}: random_source already draws the start; "
+                              "drop random_start")
+        if rst and "start" in world:
+            raise SearchError(f"scenario {label!r}: random_start draws the start; remove start "
+                              "from world or set random_start: false")
+        out.append(ScenarioEntry(ref, label, dict(world), rs, digest, rst))
     labels = [s.label for s in out]
     dup = sorted({x for x in labels if labels.count(x) > 1})
     if dup:
@@ -428,11 +449,39 @@ def _resolve_scenario(name: str, base_dir: Path) -> tuple[str, str | None]:
     return str(path.resolve()), hashlib.sha256(path.read_bytes()).hexdigest()
 
 
+def entry_scenario(entry: ScenarioEntry, scenario: Scenario | None = None) -> Scenario:
+    """The scenario an entry runs: `scenario` (default: loaded from ``entry.ref``), without
+    its start when ``entry.random_start``.
+
+    Parameters
+    ----------
+    entry : ScenarioEntry
+    scenario : Scenario, optional
+        The loaded scenario (a worker passes its cached object).
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    SearchError
+        ``random_start`` on a world kind without a default start.
+    """
+    sc = load_scenario(entry.ref) if scenario is None else scenario
+    if not entry.random_start:
+        return sc
+    if sc.kind.default_start is None:
+        raise SearchError(f"scenario {entry.label!r}: world {sc.world!r} has no default start, "
+                          "so random_start cannot apply; give start in the scenario")
+    return dataclasses.replace(sc, starts=None)
+
+
 def _check_pairs(scenarios, variants, platform, agents) -> None:
     from .. import api
     from ..strategies import STRATEGIES
     for sc in scenarios:
-        scenario = load_scenario(sc.ref)
+        scenario = entry_scenario(sc)
         if sc.random_source and scenario.world != "poisson":
             raise SearchError(f"scenario {sc.label!r}: random_source applies to arena scenarios "
                               f"(world 'poisson'), not to world {scenario.world!r}")

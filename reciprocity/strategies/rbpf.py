@@ -206,6 +206,34 @@ class RBPFStrategy(Strategy):
         i = int(self.space.index_of(true_position)[0])
         return bool(np.any(self.belief.node == i))
 
+    def assess(self, summary: dict, true_positions: np.ndarray) -> dict:
+        """The paper's verdict on a finished search (Sec. 5.1), for the evaluator.
+
+        The episode's ``success`` in a lattice world is "the searcher stepped on the
+        source" (``found``); the paper also asks that the searcher's particles then hold
+        its true node. The episode cannot test that (it never sees the belief) and the
+        strategy must not (it never sees the truth during the search), so the campaign
+        worker calls this once the search is over
+        (:func:`reciprocity.campaign.worker.assessment`).
+
+        Parameters
+        ----------
+        summary : dict
+            The episode summary.
+        true_positions : ndarray, shape (n, 2)
+            The observers' true positions at the stop (lattice units).
+
+        Returns
+        -------
+        dict
+            ``reached`` (stepped on the source, the summary's ``success``),
+            ``self_localised`` (the true node is in the particles' support) and
+            ``success`` (both: the paper's success, replacing the summary's).
+        """
+        reached = bool(summary["success"])
+        localised = self.self_localised(true_positions[0])
+        return dict(reached=reached, self_localised=localised, success=reached and localised)
+
 
 @register
 class RBPFInfotaxisStrategy(RBPFStrategy):

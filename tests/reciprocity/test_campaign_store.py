@@ -72,7 +72,7 @@ def test_unwritable_folder_is_a_clear_error(tmp_path):
 def test_a_failing_episode_becomes_a_row(monkeypatch):
     def boom(*args, **kwargs):
         raise RuntimeError("solver\nexploded")
-    monkeypatch.setattr("reciprocity.api.run", boom)
+    monkeypatch.setattr("reciprocity.api.execute", boom)
     row = run_task(next(SPEC.tasks()))
     assert row["error_message"].startswith("RuntimeError: solver exploded")
     assert row["episode_id"] == "empty/reciprocity/0" and row["strategy"] == "reciprocity"

@@ -1,0 +1,76 @@
+"""Farrell, Pang & Li (2003): hidden-Markov plume mapping, its Figs. 5–8 and a search
+comparison the paper does not have.
+
+Set-up (papers/003; scenario ``farrell``): a filament plume over 100 m × 100 m, source
+at (20, 0), a binary detector at 10 Hz, the vehicle at 1 m/s, 300 s at most. ``hmm``
+(the source likelihood map with a one-step planner) and ``surge-cast`` start from the
+same random place on each seed index: the scenario's start is dropped
+(``random_start``), so the filament world's default start, uniform over the region at
+least 10 m from the source, is drawn from the episode seed. At least 50 starts.
+``infotaxis`` is not among them: it needs a plume world's hit-rate model, not binary
+filament detections.
+
+The paper reports maps only (and that its one-step planner "typically" finds the source
+within 300 s): the table prints our success rate, search time (s, all runs: a run that
+does not stop counts its 300 s), the vehicle's distance to the source when it stopped
+(m, from its true position) and the estimate's error (m), with 95 % intervals and "–"
+for the paper. :func:`figures` (the table's ``after``) writes the paper's Figs. 5–8 and
+the tracks of both strategies on the first seed index under ``DIR/figures``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..reproduce import PaperTable, PaperValue, register
+from ..spec import CampaignSpec
+
+__all__ = ["FARRELL_HMM", "FARRELL_STRATEGIES", "figures"]
+
+#: The strategies compared.
+FARRELL_STRATEGIES = ("hmm", "surge-cast")
+_METRICS = ("success", "sim_time_s", "distance_at_stop", "error")
+
+
+def figures(directory: Path, spec: CampaignSpec) -> list[Path]:
+    """The paper's Figs. 5–8 and one track per strategy (seed index 0), in ``directory/figures``.
+
+    Parameters
+    ----------
+    directory : Path
+        The table's results folder.
+    spec : CampaignSpec
+        Its campaign (the tracks re-run its first episode of each strategy).
+
+    Returns
+    -------
+    list of Path
+    """
+    from ...viz.hmm import farrell_figures, plot_search
+    from ..worker import execute_task
+    out = Path(directory) / "figures"
+    files = list(farrell_figures(out))
+    for task in spec.tasks():
+        if task.seed_index != 0:
+            break
+        episode, strategy, platforms = execute_task(task)
+        files.append(plot_search(episode, strategy, platforms[0].world,
+                                 out / f"track_{task.variant.label}.png"))
+    return files
+
+
+FARRELL_HMM = register(PaperTable(
+    name="farrell-hmm",
+    title="hidden-Markov source map (hmm) vs surge-cast from random starts: success, search "
+          "time, distance to the source at the stop",
+    reference="Farrell, Pang & Li (2003), search comparison (the paper has Figs. 5-8 only)",
+    build_spec=lambda runs: {"strategies": list(FARRELL_STRATEGIES), "seeds": runs,
+                             "scenarios": [{"name": "farrell", "random_start": True}]},
+    paper=tuple(PaperValue(s, m, None) for s in FARRELL_STRATEGIES for m in _METRICS),
+    default_runs=50,
+    note="The paper reports maps (its Figs. 5-8, written to DIR/figures with one track per "
+         "strategy), no search statistics ('–'). Starts are uniform over the region at least "
+         "10 m from the source, drawn per seed index, the same for both strategies; search "
+         "time in s over all runs (300 s when a run does not stop), distances in m.",
+    after=figures,
+))

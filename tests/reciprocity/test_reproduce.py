@@ -1,0 +1,134 @@
+"""``reciprocity reproduce``: the registered paper tables, their specs, and the comparison
+(averages over successful runs, values without a paper number, the ``after`` hook)."""
+
+import duckdb
+import numpy as np
+import pytest
+
+from reciprocity.campaign import parse_spec
+from reciprocity.campaign.reproduce import (TABLES, PaperTable, PaperValue, compare,
+                                            comparison_markdown, reproduce)
+from reciprocity.campaign.spec import entry_scenario
+from reciprocity.campaign.store import episodes_sql
+from reciprocity.cli import main
+from reciprocity.errors import SearchError
+from reciprocity.scenarios import scenario_names
+from reciprocity.strategies import STRATEGIES
+
+#: The tables DESIGN.md's public contract names.
+DESIGN_TABLES = ("landa2020-testbed", "ristic2014-table1", "ristic2014-table2", "song2019-table1",
+                 "otto-2d", "hajieghrary-voi", "farrell-hmm")
+
+
+def test_every_design_table_is_registered():
+    assert set(DESIGN_TABLES) <= set(TABLES)
+
+
+@pytest.mark.parametrize("name", DESIGN_TABLES)
+def test_table_spec_validates_and_names_existing_things(name):
+    table = TABLES[name]
+    spec = table.spec(2)                      # parse and check only, no episode runs
+    assert spec.seeds == 2 and spec.name == name
+    assert table.spec().seeds == table.default_runs
+    assert all(v.strategy in STRATEGIES for v in spec.variants)
+    assert all(s.ref in scenario_names() for s in spec.scenarios)
+    variants = {v.label for v in spec.variants}
+    scenarios = {s.label for s in spec.scenarios}
+    for pv in table.paper:                    # every printed value is a row of the campaign
+        assert pv.variant in variants, (name, pv)
+        assert pv.scenario is None or pv.scenario in scenarios, (name, pv)
+
+
+def test_the_papers_numbers_and_settings():
+    t1, t2 = TABLES["ristic2014-table1"], TABLES["ristic2014-table2"]
+    steps = {pv.row: pv.value for pv in t1.paper if pv.metric == "steps"}
+    assert steps == {"(0, 7)": 42.1, "(0, 1)": 34.0, "(2, −5)": 28.8}
+    assert all(pv.among == "success" for pv in t1.paper + t2.paper if pv.metric == "steps")
+    assert {pv.row: pv.value for pv in t2.paper if pv.metric == "success"} == {
+        "A0 = 8": 0.78, "A0 = 12": 0.94, "A0 = 16": 0.93}
+    assert t1.default_runs == t2.default_runs == 100
+    song = TABLES["song2019-table1"].spec(1)
+    assert all(s.world == {"max_turn": 30} for s in song.scenarios) and len(song.scenarios) == 6
+    assert "±30°" in TABLES["song2019-table1"].note
+    otto = {pv.variant: (pv.value, pv.pm) for pv in TABLES["otto-2d"].paper if pv.metric == "steps"}
+    assert otto == {"infotaxis": (11.72, 0.45), "space-aware-infotaxis": (11.52, 0.45)}
+    assert TABLES["otto-2d"].default_runs >= 1000
+    assert TABLES["hajieghrary-voi"].default_runs >= 50 and TABLES["farrell-hmm"].default_runs >= 50
+    assert all(pv.value is None for n in ("hajieghrary-voi", "farrell-hmm") for pv in TABLES[n].paper)
+    assert TABLES["farrell-hmm"].after is not None
+
+
+def test_random_start_draws_the_worlds_default_start_per_seed():
+    spec = TABLES["farrell-hmm"].spec(2)
+    sc = entry_scenario(spec.scenarios[0])
+    assert sc.starts is None
+    w = sc.build_world(0)
+    a, b = sc.start_poses(w, 1, 1), sc.start_poses(w, 1, 2)
+    assert not np.allclose(a, b) and np.allclose(a, sc.start_poses(w, 1, 1))
+    assert all(np.hypot(*(p[:2] - w.source)) >= 10.0 for p in (a[0], b[0]))
+    with pytest.raises(SearchError, match="random_start draws the start"):
+        parse_spec({"strategies": ["hmm"], "seeds": 1,
+                    "scenarios": [{"name": "farrell", "random_start": True,
+                                   "world": {"start": [50, 0]}}]})
+
+
+def test_paper_value_rejects_unknown_averaging():
+    with pytest.raises(SearchError, match="among"):
+        PaperValue("x", "steps", 1.0, among="failures")
+
+
+def test_success_averaging_none_values_and_after_hook(tmp_path, monkeypatch):
+    """A tiny real campaign (empty arena, reciprocity h = 4, 6 steps at most: some runs
+    converge, some hit the cap), compared through :func:`reproduce`."""
+    called = []
+
+    def after(directory, spec):
+        called.append((directory, spec.name))
+        f = directory / "figure.txt"
+        f.write_text("x")
+        return [f]
+
+    table = PaperTable(
+        name="tiny-test", title="tiny", reference="nobody (2026)",
+        build_spec=lambda runs: {"strategies": {"reciprocity": {"h": 4.0, "max_steps": 6}},
+                                 "scenarios": ["empty"], "seeds": runs},
+        paper=(PaperValue("reciprocity", "steps", 5.0, among="success", row="ok only"),
+               PaperValue("reciprocity", "steps", None, row="all"),
+               PaperValue("reciprocity", "success", None),
+               PaperValue("reciprocity", "no_such_column", None, row="missing")),
+        default_runs=8, note="a note", after=after)
+    monkeypatch.setitem(TABLES, table.name, table)
+    out = tmp_path / "tiny"
+    _, result, rows, files = reproduce("tiny-test", out, workers=1, progress=False)
+    assert result.n_run == 8 and result.n_failed == 0
+    assert files == [out / "figure.txt"] and called == [(out, "tiny-test")]
+
+    df = duckdb.sql(f"SELECT steps, success, distance_at_stop FROM {episodes_sql(out)}").fetchnumpy()
+    ok = df["success"].astype(bool)
+    assert 0 < ok.sum() < ok.size                       # a mix, so the two means differ
+    assert np.all(df["distance_at_stop"] >= 0)
+    success_only, everything, rate, missing = rows
+    assert success_only["runs"] == ok.sum() and success_only["of"] == ok.size
+    assert success_only["ours"] == pytest.approx(df["steps"][ok].mean())
+    assert everything["ours"] == pytest.approx(df["steps"].mean())
+    assert rate["rate"] and rate["ours"] == pytest.approx(ok.mean())
+    assert rate["lo"] <= rate["ours"] <= rate["hi"]
+    assert missing["runs"] == 0 and missing["ours"] is None
+
+    text = comparison_markdown(table, rows)
+    lines = {line.split(" | ")[0].lstrip("| "): line for line in text.splitlines() if line.startswith("| ")}
+    assert "steps (successful runs) | 5 |" in lines["ok only"]
+    assert f"| {ok.sum()} of {ok.size} |" in lines["ok only"]
+    assert "| steps | – |" in lines["all"]            # no paper number: a dash
+    assert "| success | – | " in lines["reciprocity"] and " %" in lines["reciprocity"]
+    assert text.rstrip().endswith("a note")
+    assert "| [–, –] | 0 |" in lines["missing"]
+    assert [r["ours"] for r in compare(table, out)] == [r["ours"] for r in rows]
+
+
+def test_reproduce_list_names_every_table(capsys):
+    assert main(["reproduce", "--list"]) == 0
+    out = capsys.readouterr().out
+    names = [line.split()[0] for line in out.splitlines()]
+    assert names[:len(DESIGN_TABLES)] == list(DESIGN_TABLES)
+    assert all(TABLES[n].reference in out for n in DESIGN_TABLES)
