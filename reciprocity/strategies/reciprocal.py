@@ -4,20 +4,24 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.ndimage import gaussian_filter, map_coordinates
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 
 from ..errors import SearchError
 from ..green import GreenSolver
-from ..imaging import ImagingMap
+from ..imaging import COMBINATIONS, ImagingMap
 from ..intents import Measure
 from ..outcome import StopReason
 from ..spaces import MeshSpace, mesh_space
 from ..worlds.poisson import cached_solver
 from .base import SearchContext, Status, Strategy
+from .information import expected_entropy, lattice_greens, systematic_support
 
-__all__ = ["ReciprocityStrategy", "RULES", "mass_within_reach"]
+__all__ = ["ReciprocityStrategy", "RULES", "PRESETS", "DEFAULTS", "mass_within_reach"]
 
 #: Next-observation rules.
-RULES = ("axis", "reach", "nearest")
+RULES = ("axis", "reach", "nearest", "info")
 
 
 def mass_within_reach(candidates: np.ndarray, support: np.ndarray, weights: np.ndarray,
@@ -56,101 +60,210 @@ def mass_within_reach(candidates: np.ndarray, support: np.ndarray, weights: np.n
     return map_coordinates(blurred, coords, order=1, mode="constant")
 
 
+#: Source strength assumed by :meth:`ReciprocityStrategy.start` when the world states
+#: no noise: the paper's sensor noise, signal units (its section V).
+PAPER_NOISE = 12.0
+#: Smallest reading noise used for ``sigma="auto"`` / ``"noise"``, signal units: keeps
+#: eq. (7) defined in noise-free worlds (the strategy's mesh differs from the truth's by
+#: about this much near the source).
+MIN_NOISE = 1.0
+#: Lattice spacing (cm) of the candidate sources and observation points of ``rule="info"``
+#: (at least the mesh size).
+INFO_SPACING = 2.5
+#: Belief support points drawn per step by ``rule="info"``.
+INFO_SUPPORT = 16
+#: Expected entropy gain (nats) below which ``rule="info"`` finds no point worth
+#: measuring: with two modes left the search gives up and says so.
+INFO_GAIN_MIN = 0.01
+#: A connected part of ``{P_M >= eps}`` holding at least this share of the belief is a
+#: mode (reported when the search stops without separating two).
+MODE_MASS = 0.05
+
+#: Parameters a preset sets, and the defaults (no preset). Explicit parameters override
+#: both. ``extent_tol = inf`` is "no extent rule".
+DEFAULTS = dict(rule="axis", combine="product", sigma="auto", eps=0.1, area_tol=40.0,
+                extent_tol=5.0, d=6.0, reach=12.0)
+PRESETS = {"paper": dict(rule="nearest", combine="mean", sigma="noise", eps=0.1, area_tol=40.0,
+                         extent_tol=float("inf"), d=6.0, reach=12.0)}
+SIGMA_RULES = ("auto", "noise")
+
+
 class ReciprocityStrategy(Strategy):
-    """Reciprocity search (Algorithm 1): adjoint solves, probability imaging, level sets.
+    """Reciprocity search (Algorithm 1 of Landa et al.): adjoint solves, probability
+    imaging, level sets.
 
     At each observation point ``z_k`` the reading ``I_k`` and the adjoint field
-    ``v_k = c G(·, z_k)`` add the map ``p_k`` to the imaging function ``P_M``. The search
-    stops when the region ``{P_M >= eps}`` has area below `area_tol`. Otherwise the next
-    point is at least `d` from every earlier point, reachable at `clearance` from the
-    walls, and chosen by `rule`:
+    ``v_k = c G(·, z_k)`` add the map ``p_k`` (eq. 7) to the imaging function ``P_M``
+    (steps 9-11). The search stops when the region ``{P_M >= eps}`` has area below
+    `area_tol` (step 12) and, unless ``extent_tol = inf``, also lies within `extent_tol`
+    of the estimate. Otherwise the next point is at least `d` from every earlier point,
+    reachable at `clearance` from the walls, and chosen by `rule` (step 13):
 
     ``"nearest"`` (step 13 of the paper)
-        in ``{v_k > I_k}``, nearest to ``z_k``; among the points of that nearest ring
-        (one mesh size wide) the one with the largest score below.
+        in ``{v_k > I_k}``, nearest to ``z_k``; on a mesh "nearest" is resolved to one
+        mesh size: among the nodes of that nearest ring the one with the largest score
+        of ``"reach"`` below. When no admissible node has ``v_k > I_k``, the nearest
+        admissible node.
     ``"reach"``
         the point with the largest score ``Σ_x w(x) exp(-|y - x|^2 / (2 reach^2))``,
         ``w`` the imaging function times the nodal area: the imaging mass within
-        sensing reach of ``y``. While the signal is weak this sends the observer to the
-        largest unexplored part of the arena; once the region is small, to the points
-        nearest to it that keep the separation `d`, which surround the source.
+        sensing reach of ``y``.
     ``"axis"`` (default)
         as ``"reach"`` while the imaging mass is spread wider than `reach` (its major
         standard deviation); once it is concentrated, the admissible point nearest to
-        its major axis at ``max(d, 2 std)`` beyond its centre. The imaging region is
-        elongated along the level sets already measured; level sets around a point on
-        its axis cut across it.
+        its major axis at ``max(d, 2 std)`` beyond its centre: level sets around a point
+        on the axis cut across the elongated region.
+    ``"info"``
+        the point whose reading is expected to leave the smallest belief spread
+        (:func:`~reciprocity.strategies.information.expected_spread`): INFO_SUPPORT
+        belief points drawn by systematic resampling on a lattice of INFO_SPACING cm,
+        their Green's functions ``G(·, x_i)`` (by reciprocity the predicted reading
+        ``c G(y, x_i)`` at every lattice point ``y``; solved once per lattice point and
+        kept per solver), scored at every admissible lattice point. A point between two
+        modes whose predicted readings differ is preferred to one that cannot tell them
+        apart. Once the belief sits in one lattice cell, as ``"axis"``.
 
-    The search stops when the region ``{P_M >= eps}`` has area below `area_tol` and,
-    unless `extent_tol` is None, also lies within `extent_tol` of the estimate (a thin
-    curved sliver can have a small area and still be long).
+    Every search stops at once with ``StopReason.UNREACHABLE`` when no point it may
+    measure at is reachable, or when the whole region of possible sources lies farther
+    than `reach` (sensing reach) from every reachable point. When the belief has two or more
+    separate modes in ``{P_M >= eps}`` (each holding at least MODE_MASS of it), a search
+    that reaches `max_steps` says how many and how far apart the two largest are, and
+    the ``"info"`` rule, when no admissible point is expected to gain INFO_GAIN_MIN
+    nats, stops with ``StopReason.GAVE_UP`` and says so, rather than stop on one mode.
+
+    **The paper's settings** (``preset="paper"``): ``rule="nearest"``,
+    ``combine="mean"`` (eq. 8), ``sigma="noise"`` (eq. 7 with ``sigma^2`` the variance
+    of the measurement noise, as the paper states: 12 on the testbed), and no extent
+    rule. The paper gives no values for ``eps``, ``A_eps`` and ``d``; the preset uses
+    ``eps = 0.1``, ``A_eps = 40 cm^2`` (a disk of radius 3.6 cm, inside the 5 cm success
+    radius) and ``d = 6 cm``. Choices the paper leaves open: the first point is the
+    start; "nearest" and the tie-break are as above; the estimate is the maximiser of
+    ``P_M`` refined below the mesh size (:meth:`ImagingMap.estimate`); the loop
+    condition of Algorithm 1 (``while 0 <= A < A_eps``) is read as "until ``A <
+    A_eps``". Parameters given together with a preset override it (``preset="paper",
+    sigma=17`` is the paper with ``sigma = 17``).
+
+    **Deviations of the defaults from the paper**, each measured over the same 100
+    random (source, start) pairs on ``paper`` (point observer, noise 12; table in the
+    README, ``benchmarks/bench_rules.py``):
+
+    - ``combine="product"`` instead of eq. (8)'s mean: with the mean every map is
+      ``p_k = 1`` on its own level set, so ``P_M >= 1/M`` on every band and the region
+      ``{P_M >= 0.1}`` cannot shrink below the union of the bands until ``M > 10``; the
+      normalised product is the likelihood of all readings.
+    - ``sigma="auto"`` = ``sqrt 2`` times the reading noise (16.97 for noise 12) instead
+      of the noise itself: eq. (7) is ``exp(-r^2/sigma^2)``, the Gaussian likelihood
+      ``exp(-r^2/(2 s^2))`` of noise std ``s`` needs ``sigma = sqrt(2) s``; with
+      ``sigma = s`` the product is over-confident and converges on false modes.
+    - ``rule="axis"`` instead of step 13's nearest point: the nearest point in
+      ``{v_k > I_k}`` creeps ``d`` at a time.
+    - the extent rule (``extent_tol = 5 cm``): a thin curved sliver can have a small
+      area and still be long.
 
     Parameters
     ----------
+    preset : {None, "paper"}
+        Start from the paper's settings instead of the defaults (see above).
+    rule : {"axis", "reach", "nearest", "info"}
+        Next-point rule (see above).
+    combine : {"mean", "product"}
+        Combination of the maps (eq. 8, or the normalised likelihood).
+    sigma : float or {"auto", "noise"}
+        ``sigma`` of eq. (7), signal units; ``"auto"``: ``sqrt 2`` times the reading
+        noise, ``"noise"``: the reading noise. The reading noise is the nominal
+        description's ``reading_noise`` (the noise of one averaged reading, e.g. a car's
+        calibrated sensor noise over ``sqrt`` of its samples per dwell), else its
+        ``noise``, else PAPER_NOISE; at least MIN_NOISE.
     eps : float
         Threshold ``0 < eps < 1`` defining the region of possible sources.
     area_tol : float
         ``A_eps``, cm^2: stop when the region is smaller.
+    extent_tol : float
+        Largest distance (cm) from the estimate to the region for stopping; ``inf``
+        for none.
     d : float
         Minimum separation of observation points, cm.
-    sigma : float
-        ``sigma`` of eq. (7), signal units.
-    max_steps : int
-        Give up after this many measurements.
-    clearance : float
-        Observation points keep this distance (cm) from walls.
-    extent_tol : float or None
-        Largest distance (cm) from the estimate to the region for stopping.
-    rule : {"axis", "reach", "nearest"}
-        Next-point rule (see above).
     reach : float
         Kernel length (cm) of the ``"reach"`` score: about the distance at which the
         signal still stands out of the noise.
-    combine : {"mean", "product"}
-        Combination of the maps (eq. 8, or the normalised likelihood).
+    max_steps : int
+        Stop after this many measurements.
+    clearance : float
+        Observation points keep this distance (cm) from walls.
     strength : float or "arena" or None
-        Source strength: a number, ``"arena"`` for the arena's nominal strength, or
-        None for unknown (estimated per point by least squares).
+        Source strength: a number, ``"arena"`` for the nominal strength (the paper
+        assumes it known), or None for unknown (estimated per point by least squares).
     h : float
         Mesh size (cm) of the solver built by :meth:`start` when none is given.
     solver : GreenSolver, optional
         A prebuilt solver for the arena (shared across episodes: factorized once).
+
+    Examples
+    --------
+    >>> s = ReciprocityStrategy(preset="paper", sigma=17.0)
+    >>> s.rule, s.combine, s.sigma, s.extent_tol
+    ('nearest', 'mean', 17.0, inf)
     """
 
     name = "reciprocity"
 
-    def __init__(self, *, eps: float = 0.1, area_tol: float = 40.0,
-                 extent_tol: float | None = 5.0, d: float = 6.0, sigma: float = 17.0,
-                 max_steps: int = 30, clearance: float = 3.0, rule: str = "axis",
-                 reach: float = 12.0, combine: str = "product", strength="arena", h: float = 1.0,
+    def __init__(self, *, preset: str | None = None, rule: str | None = None,
+                 combine: str | None = None, sigma=None, eps: float | None = None,
+                 area_tol: float | None = None, extent_tol: float | None = None,
+                 d: float | None = None, reach: float | None = None, max_steps: int = 30,
+                 clearance: float = 3.0, strength="arena", h: float = 1.0,
                  solver: GreenSolver | None = None):
         super().__init__()
-        if not 0 < eps < 1:
-            raise SearchError(f"eps must lie strictly between 0 and 1; got {eps!r}")
-        for key, val in dict(area_tol=area_tol, d=d, sigma=sigma, h=h).items():
-            if not np.isfinite(val) or val <= 0:
-                raise SearchError(f"{key} must be a positive number; got {val!r}")
+        if preset is not None and preset not in PRESETS:
+            raise SearchError(f"preset must be one of {tuple(PRESETS)} or None; got {preset!r}")
+        given = dict(rule=rule, combine=combine, sigma=sigma, eps=eps, area_tol=area_tol,
+                     extent_tol=extent_tol, d=d, reach=reach)
+        p = {**DEFAULTS, **PRESETS.get(preset, {}), **{k: v for k, v in given.items() if v is not None}}
+        if not 0 < p["eps"] < 1:
+            raise SearchError(f"eps must lie strictly between 0 and 1; got {p['eps']!r}")
+        for key in ("area_tol", "d", "reach"):
+            if not np.isfinite(p[key]) or p[key] <= 0:
+                raise SearchError(f"{key} must be a positive number; got {p[key]!r}")
+        if not np.isfinite(h) or h <= 0:
+            raise SearchError(f"h must be a positive number; got {h!r}")
+        if not (p["extent_tol"] > 0):
+            raise SearchError(f"extent_tol must be a positive length in cm, or inf for none; "
+                              f"got {p['extent_tol']!r}")
+        if p["sigma"] not in SIGMA_RULES and (isinstance(p["sigma"], str) or not np.isfinite(p["sigma"])
+                                              or p["sigma"] <= 0):
+            raise SearchError(f"sigma must be a positive number or one of {SIGMA_RULES}; "
+                              f"got {p['sigma']!r}")
         if clearance < 0:
             raise SearchError(f"clearance must be >= 0 cm; got {clearance!r}")
         if int(max_steps) < 1:
             raise SearchError(f"max_steps must be at least 1; got {max_steps!r}")
-        if rule not in RULES:
-            raise SearchError(f"rule must be one of {RULES}; got {rule!r}")
-        if extent_tol is not None and (not np.isfinite(extent_tol) or extent_tol <= 0):
-            raise SearchError(f"extent_tol must be a positive length in cm or None; got {extent_tol!r}")
-        if not np.isfinite(reach) or reach <= 0:
-            raise SearchError(f"reach must be a positive length in cm; got {reach!r}")
-        self.rule, self.reach, self.extent_tol = rule, float(reach), extent_tol
-        self.eps, self.area_tol, self.d, self.sigma = float(eps), float(area_tol), float(d), float(sigma)
-        self.max_steps, self.clearance, self.combine = int(max_steps), float(clearance), combine
+        if p["rule"] not in RULES:
+            raise SearchError(f"rule must be one of {RULES}; got {p['rule']!r}")
+        if p["combine"] not in COMBINATIONS:
+            raise SearchError(f"combine must be one of {COMBINATIONS}; got {p['combine']!r}")
+        self.preset = preset
+        self.rule, self.combine = p["rule"], p["combine"]
+        self.sigma = p["sigma"] if p["sigma"] in SIGMA_RULES else float(p["sigma"])
+        self.eps, self.area_tol, self.extent_tol = float(p["eps"]), float(p["area_tol"]), float(p["extent_tol"])
+        self.d, self.reach = float(p["d"]), float(p["reach"])
+        self.max_steps, self.clearance = int(max_steps), float(clearance)
         self.strength, self.h, self.solver = strength, float(h), solver
 
     def params(self) -> dict:
-        return dict(rule=self.rule, reach=self.reach, eps=self.eps, area_tol=self.area_tol,
-                    extent_tol=self.extent_tol, d=self.d, sigma=self.sigma,
+        return dict(preset=self.preset, rule=self.rule, reach=self.reach, eps=self.eps,
+                    area_tol=self.area_tol, extent_tol=self.extent_tol, d=self.d,
+                    sigma=self.sigma, sigma_used=getattr(self, "sigma_used", None),
                     max_steps=self.max_steps, clearance=self.clearance, combine=self.combine,
                     strength=self.strength if not isinstance(self.strength, float) else float(self.strength),
                     h=self.h if self.solver is None else self.solver.h)
+
+    def reading_sigma(self, nominal: dict) -> float:
+        """``sigma`` of eq. (7) for a world described by `nominal` (signal units)."""
+        if not isinstance(self.sigma, str):
+            return self.sigma
+        noise = nominal.get("reading_noise", nominal.get("noise", PAPER_NOISE))
+        noise = max(float(noise), MIN_NOISE)
+        return np.sqrt(2.0) * noise if self.sigma == "auto" else noise
 
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
@@ -159,11 +272,16 @@ class ReciprocityStrategy(Strategy):
         if self.solver is None or self.solver.arena.without_scenario() is not geometry:
             self.solver = cached_solver(geometry, self.h)
         c = ctx.nominal.get("strength", arena.strength) if self.strength == "arena" else self.strength
-        self.imaging = ImagingMap(self.solver, self.sigma, strength=c, combine=self.combine)
+        self.sigma_used = float(self.reading_sigma(ctx.nominal))
+        self.imaging = ImagingMap(self.solver, self.sigma_used, strength=c, combine=self.combine)
         self.space = self._space(geometry)
+        self.rng = ctx.rng
         self._reachable = self.space.reachable_from(pose[:2], self.clearance)
         self._next = np.asarray(pose[:2], dtype=float)
         self._node_area = self.space.cell_areas
+        self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
+            if self.rule == "info" else None
+        self._check_reachable()
 
     def _space(self, geometry) -> MeshSpace:
         """The candidate points: the nodes of the solver's own P1 mesh."""
@@ -186,19 +304,81 @@ class ReciprocityStrategy(Strategy):
         area = self.imaging.area(self.eps)                             # step 12
         estimate = self.imaging.estimate()
         self.status = Status(estimate, area)
-        region = self.imaging.nodes[self.imaging.values() >= self.eps]
+        region = self.imaging.nodes[self.region()]
         extent = float(np.hypot(*(region - estimate).T).max()) if len(region) else 0.0
         self.status.extra["region_extent"] = extent
-        if area < self.area_tol and (self.extent_tol is None or extent <= self.extent_tol):
+        if area < self.area_tol and extent <= self.extent_tol:
             self.stop(StopReason.CONVERGED, "region smaller than area_tol")
         elif self.n_measurements >= self.max_steps:
-            self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} measurements")
+            self._stop_at_cap()
         else:
-            self._choose_next()
+            self._check_reachable()
+            if not self.done:
+                self._choose_next()
         self.status.extra["next"] = None if self.done else self._next.tolist()
+
+    def region(self) -> np.ndarray:
+        """Mask of the nodes in the region of possible sources ``{P_M >= eps}`` (every
+        node before the first reading)."""
+        if not self.imaging.n:
+            return np.ones(len(self.space.points), dtype=bool)
+        return self.imaging.values() >= self.eps
+
+    def modes(self) -> list[tuple[float, np.ndarray]]:
+        """The connected parts of ``{P_M >= eps}`` holding at least MODE_MASS of the
+        belief: ``(mass, peak cm)`` (the peak: the part's node of largest ``P_M``),
+        heaviest first."""
+        inside = self.region()
+        tri = self.space.triangles
+        tri = tri[inside[tri].all(axis=1)]
+        n = len(inside)
+        i, j = np.concatenate([tri[:, 0], tri[:, 1]]), np.concatenate([tri[:, 1], tri[:, 2]])
+        _, label = connected_components(coo_matrix((np.ones(i.size), (i, j)), shape=(n, n)),
+                                        directed=False)
+        w, P = self.imaging.weights(), self.imaging.values()
+        out = []
+        for lab in np.unique(label[inside]):
+            part = np.flatnonzero(inside & (label == lab))
+            mass = float(w[part].sum())
+            if mass >= MODE_MASS:
+                out.append((mass, self.space.points[part[np.argmax(P[part])]].copy()))
+        return sorted(out, key=lambda m: -m[0])
+
+    def _modes_note(self) -> str:
+        """``"; N modes, the two largest D cm apart"`` when the belief has several modes."""
+        modes = self.modes()
+        if len(modes) < 2:
+            return ""
+        gap = float(np.hypot(*(modes[0][1] - modes[1][1])))
+        return f"; {len(modes)} modes, the two largest {gap:.0f} cm apart"
+
+    def _stop_at_cap(self) -> None:
+        self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} measurements{self._modes_note()}")
+
+    def _check_reachable(self) -> None:
+        """Stop (UNREACHABLE) when nothing can be measured or no possible source is within
+        `reach` of a reachable point."""
+        if not self._reachable.any():
+            self.stop(StopReason.UNREACHABLE, "no observation point is reachable")
+            return
+        near = self._near_reachable()
+        region = self.region()
+        if not (region & near).any():
+            self.stop(StopReason.UNREACHABLE, "the whole region of possible sources "
+                                              f"({region.sum()} nodes) lies out of reach")
+
+    def _near_reachable(self) -> np.ndarray:
+        key = self._reachable.tobytes()
+        if getattr(self, "_near_key", None) != key:
+            pts = self.space.points
+            dist = cKDTree(pts[self._reachable]).query(pts, distance_upper_bound=self.reach)[0]
+            self._near, self._near_key = np.isfinite(dist), key
+        return self._near
 
     def _choose_next(self) -> None:
         nxt = self.next_point()                                        # step 13
+        if self.done:
+            return
         if nxt is None:
             self.stop(StopReason.NO_TARGET, "no admissible observation point left")
         else:
@@ -206,8 +386,9 @@ class ReciprocityStrategy(Strategy):
 
     def restrict(self, mask_of) -> None:
         mask = mask_of(self.space.points)
-        if mask is not None and (self._reachable & mask).any():
+        if mask is not None:
             self._reachable &= mask
+            self._check_reachable()
 
     def reject(self, intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
         """Exclude the neighbourhood of an unreachable target and choose again."""
@@ -223,19 +404,43 @@ class ReciprocityStrategy(Strategy):
     def next_point(self) -> np.ndarray | None:
         """Step 13: the next observation point (cm), or None if none is admissible."""
         im, cand = self.imaging, self.space
-        z = im.points[-1]
         allowed = self._reachable & cand.separated(im.points, self.d)
-        if self.rule == "axis":
+        if self.rule == "info":
+            nxt, gain = self._info_point(allowed)
+            if nxt is not None and gain < INFO_GAIN_MIN:
+                note = self._modes_note()
+                if note:
+                    self.stop(StopReason.GAVE_UP, f"no admissible point tells the modes apart{note}")
+                    return None
+            if nxt is not None:
+                return nxt
+        if self.rule in ("axis", "info"):
             nxt = self._axis_point(allowed)
             if nxt is not None:
                 return nxt
-        score = self._score(allowed)  # only when the axis rule did not decide
-        if self.rule in ("axis", "reach"):
+        score = self._score(allowed)  # only when the rules above did not decide
+        if self.rule != "nearest":
             idx = np.flatnonzero(np.isfinite(score))
             return None if idx.size == 0 else cand.nodes[idx[np.argmax(score[idx])]].copy()
         inside = im.model()[:, -1] > im.readings[-1]                   # {v_k > I_k}
         mask = allowed & inside if (allowed & inside).any() else allowed
-        return cand.nearest_ring(z, mask, score, self.solver.h)
+        return cand.nearest_ring(im.points[-1], mask, score, self.solver.h)
+
+    def _info_point(self, allowed: np.ndarray) -> tuple[np.ndarray | None, float]:
+        """The ``"info"`` rule: the admissible lattice point of least expected entropy and
+        the expected gain (nats); ``(None, 0)`` when the belief sits in one lattice cell or
+        no lattice point is admissible."""
+        lat = self._lattice
+        mass = np.bincount(lat.anchor, self.imaging.weights(), minlength=len(lat.nodes))
+        anchors, w = systematic_support(mass, INFO_SUPPORT, self.rng)
+        cand = np.flatnonzero(allowed[lat.nodes])
+        if anchors.size < 2 or cand.size == 0:
+            return None, 0.0
+        c = self.imaging.strength_map()[lat.nodes[anchors]]
+        means = lat.columns(anchors)[cand] * c[None, :]               # c_i G(y, x_i), reciprocity
+        score = expected_entropy(means, w, self.sigma_used / np.sqrt(2.0))
+        best = int(np.argmin(score))
+        return lat.points[cand[best]].copy(), float(-w @ np.log(w) - score[best])
 
     def _axis_point(self, allowed: np.ndarray) -> np.ndarray | None:
         """The ``"axis"`` rule once the imaging mass is concentrated, else None."""

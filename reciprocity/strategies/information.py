@@ -1,0 +1,163 @@
+"""Expected information of a reading, for choosing where to measure next.
+
+By reciprocity the reading at ``y`` for a source at ``x`` has mean ``c G(y, x) =
+c G(x, y)``: one adjoint solve per *candidate source* ``x`` gives the predicted reading
+at *every* observation point. The candidate sources and the observation points are the
+nodes of one coarse lattice of mesh nodes (:func:`lattice_nodes`); the columns
+``G(lattice, x)`` are solved on demand, several in one back-substitution, and kept per
+solver (:class:`LatticeGreens`), so a search whose belief has settled on a few lattice
+cells solves nothing new. :func:`expected_entropy` scores every observation point by the
+entropy of the belief expected after reading there.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..green import GreenSolver
+
+__all__ = ["lattice_nodes", "LatticeGreens", "lattice_greens", "expected_entropy",
+           "systematic_support"]
+
+
+def lattice_nodes(points: np.ndarray, spacing: float) -> np.ndarray:
+    """Indices of one node per occupied square cell of side `spacing`: the node nearest
+    to the cell's centre.
+
+    Parameters
+    ----------
+    points : ndarray, shape (n, 2)
+        Mesh nodes, cm.
+    spacing : float
+        Cell side, cm.
+
+    Returns
+    -------
+    ndarray of int, shape (L,)
+        Node indices, sorted.
+    """
+    cell = np.floor(points / spacing).astype(np.int64)
+    centre = (cell + 0.5) * spacing
+    dist = np.hypot(*(points - centre).T)
+    key = (cell[:, 0] - cell[:, 0].min()) * (np.ptp(cell[:, 1]) + 1) + (cell[:, 1] - cell[:, 1].min())
+    order = np.lexsort((dist, key))
+    first = np.ones(len(order), dtype=bool)
+    first[1:] = key[order][1:] != key[order][:-1]
+    return np.sort(order[first])
+
+
+class LatticeGreens:
+    """``G(y, x)`` for lattice nodes ``y`` and ``x``, columns solved on demand.
+
+    Parameters
+    ----------
+    solver : GreenSolver
+        A P1 solver (a point source at a node is the unit load vector of its dof).
+    spacing : float
+        Lattice spacing, cm (see :func:`lattice_nodes`).
+
+    Attributes
+    ----------
+    nodes : ndarray of int, shape (L,)
+        The lattice's mesh-node indices.
+    points : ndarray, shape (L, 2)
+        Their coordinates, cm.
+    anchor : ndarray of int, shape (n_nodes,)
+        For every mesh node, the position in :attr:`nodes` of the nearest lattice node.
+    n_solved : int
+        Columns solved so far (for timing reports).
+    """
+
+    def __init__(self, solver: GreenSolver, spacing: float):
+        self.solver = solver
+        self.nodes = lattice_nodes(solver.nodes, spacing)
+        self.points = solver.nodes[self.nodes]
+        self.anchor = cKDTree(self.points).query(solver.nodes)[1]
+        self._columns = np.full((len(self.nodes), len(self.nodes)), np.nan, dtype=np.float32)
+        self._have = np.zeros(len(self.nodes), dtype=bool)
+        self.n_solved = 0
+
+    def columns(self, anchors: np.ndarray) -> np.ndarray:
+        """``G(lattice, x_a)`` for lattice positions `anchors`, shape (L, len(anchors)).
+
+        Missing columns are solved together: one multi-column back-substitution."""
+        anchors = np.asarray(anchors, dtype=np.int64)
+        missing = np.unique(anchors[~self._have[anchors]])
+        if missing.size:
+            rhs = np.zeros((self.solver.basis.N, missing.size))
+            rhs[self.nodes[missing], np.arange(missing.size)] = 1.0
+            g = self.solver.solve(rhs)
+            self._columns[:, missing] = g[self.nodes]
+            self._have[missing] = True
+            self.n_solved += int(missing.size)
+        return self._columns[:, anchors].astype(float)
+
+
+@lru_cache(maxsize=4)
+def lattice_greens(solver: GreenSolver, spacing: float) -> LatticeGreens:
+    """The :class:`LatticeGreens` of `solver`, shared by every search on it in a process
+    (its columns depend only on the geometry)."""
+    return LatticeGreens(solver, float(spacing))
+
+
+def systematic_support(weights: np.ndarray, k: int, rng: np.random.Generator
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """At most `k` distinct indices drawn by systematic resampling, with their weights.
+
+    Parameters
+    ----------
+    weights : ndarray, shape (L,)
+        Non-negative masses.
+    k : int
+        Draws.
+    rng : numpy.random.Generator
+        Draws the common offset.
+
+    Returns
+    -------
+    index : ndarray of int
+        Distinct drawn indices.
+    weight : ndarray
+        Their share of the draws (sums to 1).
+    """
+    c = np.cumsum(weights / weights.sum())
+    u = (rng.random() + np.arange(k)) / k
+    drawn = np.minimum(np.searchsorted(c, u), len(weights) - 1)
+    index, count = np.unique(drawn, return_counts=True)
+    return index, count / k
+
+
+def expected_entropy(means: np.ndarray, weights: np.ndarray, noise: float) -> np.ndarray:
+    """Expected entropy (nats) of the belief over K support points after one reading at
+    each candidate.
+
+    For a true source at support point ``j`` the reading at candidate ``y`` is
+    ``means[y, j]`` plus Gaussian noise of std `noise`; averaged over that noise, the
+    belief weight of point ``i`` is proportional to ``w_i N(means[y, i]; means[y, j],
+    2 noise^2)`` (the product of two Gaussians integrated over the reading). The score
+    is ``Σ_j w_j H(π_{·|j}(y))``. Support points a candidate cannot tell apart keep
+    their share of the entropy; a candidate whose predicted readings differ by several
+    noise standard deviations between two modes removes ``log 2`` of it.
+
+    Parameters
+    ----------
+    means : ndarray, shape (m, K)
+        Predicted reading at m candidates for each of K support points (signal units).
+    weights : ndarray, shape (K,)
+        Belief weights of the support points (sum 1).
+    noise : float
+        Standard deviation of a reading, signal units.
+
+    Returns
+    -------
+    ndarray, shape (m,)
+        Expected entropy, nats.
+    """
+    diff = means[:, :, None] - means[:, None, :]                      # (m, j, i)
+    kernel = np.exp(-(diff * diff) / (4.0 * noise * noise)) * weights[None, None, :]
+    post = kernel / kernel.sum(axis=2, keepdims=True)
+    h = -np.sum(post * np.log(np.maximum(post, 1e-300)), axis=2)      # (m, j)
+    return h @ weights

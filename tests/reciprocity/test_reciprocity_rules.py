@@ -1,0 +1,137 @@
+"""The reciprocity strategy's presets and rules: the paper's settings, the expected-
+information rule on hand-built beliefs, ambiguity and reachability stops, statistics."""
+
+import re
+
+import numpy as np
+import pytest
+from scipy.stats import binom
+
+import arenas
+import reciprocity as r
+from reciprocity.observations import Observation
+from reciprocity.spaces import mesh_space
+from reciprocity.strategies.information import expected_entropy
+from reciprocity.strategies.reciprocal import PRESETS
+from reciprocity.worlds.poisson import cached_solver
+
+
+@pytest.fixture(scope="module")
+def empty():
+    a = arenas.load("empty")
+    return a, cached_solver(a.without_scenario(), 3.0)
+
+
+def started(solver, arena, *, noise=12.0, start=(20.0, 20.0), **kw):
+    s = r.ReciprocityStrategy(solver=solver, **kw)
+    s.start(r.SearchContext("poisson", dict(arena=arena.without_scenario(), strength=arena.strength,
+                                            noise=noise),
+                            np.array([[*start, 0.0]]), np.random.default_rng(0)))
+    return s
+
+
+def test_paper_preset_is_algorithm_1(empty):
+    arena, solver = empty
+    s = started(solver, arena, preset="paper")
+    assert (s.rule, s.combine, s.sigma, s.eps, s.extent_tol) == ("nearest", "mean", "noise", 0.1, np.inf)
+    assert s.sigma_used == 12.0                      # eq. (7): sigma^2 is the noise variance
+    assert PRESETS["paper"]["area_tol"] == s.area_tol and s.d == PRESETS["paper"]["d"]
+    over = started(solver, arena, preset="paper", sigma=17.0, rule="axis")
+    assert (over.sigma_used, over.rule, over.combine) == (17.0, "axis", "mean")
+    default = started(solver, arena, noise=5.0)
+    assert default.sigma_used == pytest.approx(5.0 * np.sqrt(2.0))   # likelihood-consistent
+    told = started(solver, arena, noise=12.0)
+    told_car = r.ReciprocityStrategy(solver=solver)
+    told_car.start(r.SearchContext("poisson", dict(arena=arena.without_scenario(), strength=850.0,
+                                                   noise=12.0, reading_noise=2.0),
+                                   np.array([[20.0, 20.0, 0.0]]), np.random.default_rng(0)))
+    assert told.sigma_used > told_car.sigma_used == pytest.approx(2.0 * np.sqrt(2.0))
+    with pytest.raises(r.SearchError, match="preset"):
+        r.ReciprocityStrategy(preset="landa")
+    with pytest.raises(r.SearchError, match="sigma"):
+        r.ReciprocityStrategy(sigma="wide")
+
+
+def test_expected_entropy_prefers_the_point_that_separates_two_modes():
+    """Two equally likely sources; a reading equal for both (a point on their bisector)
+    leaves log 2 nats, one whose predictions differ by 10 noise std removes it."""
+    w = np.array([0.5, 0.5])
+    means = np.array([[40.0, 40.0], [40.0, 160.0]])   # candidate 0: bisector, 1: beside one
+    h = expected_entropy(means, w, noise=12.0)
+    assert h[0] == pytest.approx(np.log(2.0))
+    assert h[1] < 1e-6
+
+
+def test_info_rule_measures_where_two_modes_read_differently(empty):
+    arena, solver = empty
+    a, b = np.array([40.0, 70.0]), np.array([100.0, 70.0])
+    s = started(solver, arena, rule="info")
+    s.imaging.add((70.0, 20.0), 0.0)
+    p = solver.nodes
+    s.imaging._cache["P"] = np.exp(-np.sum((p - a) ** 2, 1) / 8.0) + np.exp(-np.sum((p - b) ** 2, 1) / 8.0)
+    nxt = s.next_point()
+    gap = abs(np.hypot(*(nxt - a)) - np.hypot(*(nxt - b)))
+    assert gap > 20.0                                # far from the bisector x = 70
+    assert min(np.hypot(*(nxt - a)), np.hypot(*(nxt - b))) < 25.0
+
+
+def test_unknown_strength_two_modes_are_reported(empty):
+    """Readings on the mirror line x = 70 of a source at (50, 70) cannot tell it from
+    (90, 70): at the step cap the search reports two modes instead of converging."""
+    arena, solver = empty
+    s = started(solver, arena, strength=None, max_steps=3, rule="nearest")
+    u = solver.field((50.0, 70.0), strength=600.0)
+    for z in [(70.0, 40.0), (70.0, 100.0), (70.0, 70.0)]:
+        s.observe([Observation(np.array(z), float(u([z])[0]))], None)
+    assert s.outcome.reason == r.StopReason.STEP_CAP and not s.outcome.reason.converged
+    gap = float(re.search(r"2 modes, the two largest (\d+) cm apart", s.outcome.detail).group(1))
+    assert abs(gap - 40.0) <= 2 * solver.h          # the mirror images, to the mesh size
+
+
+def test_info_rule_gives_up_when_no_point_separates_the_modes(empty):
+    """Two modes, and the observer may only measure along the bottom wall, where the
+    signal of either is buried in the noise: the search says so instead of measuring."""
+    arena, solver = empty
+    s = started(solver, arena, rule="info", strength=None)
+    s.imaging.add((70.0, 20.0), 0.0)
+    p = solver.nodes
+    s.imaging._cache["P"] = np.exp(-np.sum((p - [40.0, 110.0]) ** 2, 1) / 8.0) + \
+        np.exp(-np.sum((p - [100.0, 110.0]) ** 2, 1) / 8.0)
+    s._reachable &= p[:, 1] < 4.0
+    assert s.next_point() is None
+    assert s.outcome.reason == r.StopReason.GAVE_UP
+    found = re.search(r"tells the modes apart; 2 modes, the two largest (\d+) cm apart", s.outcome.detail)
+    assert abs(float(found.group(1)) - 60.0) <= 2 * solver.h
+
+
+def test_unreachable_region_stops_at_once(empty):
+    arena, solver = empty
+    s = started(solver, arena)
+    s.restrict(lambda pts: np.zeros(len(pts), dtype=bool))
+    assert s.outcome.reason == r.StopReason.UNREACHABLE and "reachable" in s.outcome.detail
+    s = started(solver, arena)
+    s.imaging.add((20.0, 20.0), 0.0)
+    s.imaging._cache["P"] = (solver.nodes[:, 0] > 110).astype(float)   # sources on the right
+    s.restrict(lambda pts: pts[:, 0] < 60)          # observer on the left, out of reach
+    assert s.outcome.reason == r.StopReason.UNREACHABLE and "out of reach" in s.outcome.detail
+
+
+def test_info_rule_statistics_on_empty(empty):
+    """12 seeded episodes at h = 3 cm, noise 12, known strength: at least 10 succeed (at
+    the measured rate of about 0.99 this fails with probability below 0.01; a rate of
+    0.8 would pass with probability 0.28) and the median needs at most 6 readings."""
+    arena, solver = empty
+    rng = np.random.default_rng(11)
+    ok, counts = 0, []
+    for seed in range(12):
+        src = arena.random_free_points(1, rng, clearance=8.0)[0]
+        start = np.append(arena.random_free_points(1, rng, clearance=5.0)[0], 0.0)
+        w = r.PoissonWorld(arena.with_scenario(source=src), noise=12.0, h=2.1)
+        ep = r.run_episode(w, r.ReciprocityStrategy(solver=solver, rule="info"),
+                           r.PointPlatform(mesh_space(arena.without_scenario(), 3.0)),
+                           starts=[start], seed=seed)
+        ok += ep.summary["success"]
+        counts.append(ep.summary["n_measurements"])
+    assert binom.cdf(9, 12, 0.99) < 0.01
+    assert ok >= 10
+    assert np.median(counts) <= 6
