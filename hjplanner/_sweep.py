@@ -55,6 +55,7 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, r
     nt, nxp, nyp = phi.shape
     nx, ny = nxp - 2 * pad, nyp - 2 * pad
     nc = off_i.shape[1]
+    every = np.uint32((1 << nc) - 1)
     for p in range(nx):
         i = nx - 1 - p if rev_i else p
         bi = i // BLOCK
@@ -66,16 +67,13 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, r
                 continue
             ip, jp = i + pad, j + pad
             best = bc[k, i, j]
-            for c in range(nc):
-                if not (bits >> c) & 1:
-                    continue
-                kc = kk[k, c]
-                a = ip + off_i[k, c]
-                b = jp + off_j[k, c]
-                v = (cost[k, c] + w[k, c, 0] * phi[kc, a, b] + w[k, c, 1] * phi[kc, a, b + 1]
-                     + w[k, c, 2] * phi[kc, a + 1, b] + w[k, c, 3] * phi[kc, a + 1, b + 1]) * inv_self[k, c]
-                if v < best:
-                    best = v
+            if bits == every:  # away from the walls: every arc is clear
+                for c in range(nc):
+                    best = min(best, _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost))
+            else:
+                for c in range(nc):
+                    if (bits >> c) & 1:
+                        best = min(best, _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost))
             old = phi[k, ip, jp]
             # Candidates that touched BIG stay unreached (BIG) rather than
             # creeping down geometrically through astronomically large values.
@@ -83,6 +81,16 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, r
                 phi[k, ip, jp] = best
                 if old - best > tol:
                     changed[k, bi, bj] = sweep
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost):
+    """Value of stencil c at padded node (ip, jp) of layer k: cost plus the bilinear φ at its foot."""
+    kc = kk[k, c]
+    a = ip + off_i[k, c]
+    b = jp + off_j[k, c]
+    return (cost[k, c] + w[k, c, 0] * phi[kc, a, b] + w[k, c, 1] * phi[kc, a, b + 1]
+            + w[k, c, 2] * phi[kc, a + 1, b] + w[k, c, 3] * phi[kc, a + 1, b + 1]) * inv_self[k, c]
 
 
 @njit(cache=True, nogil=True)
@@ -99,11 +107,17 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
     nt, nc, nm = ci.shape
     nx, ny = distance.shape
     adm = np.zeros((nt, nx, ny), np.uint32)
+    every = np.uint32((1 << nc) - 1)
+    far = clearance + reach.max()
     for i in range(nx):
         for j in range(ny):
             if not free[i, j]:
                 continue
             d0 = distance[i, j]
+            if d0 >= far:  # every arc is shorter than the distance to the walls
+                for k in range(nt):
+                    adm[k, i, j] = every
+                continue
             for k in range(nt):
                 bits = np.uint32(0)
                 for c in range(nc):
@@ -124,6 +138,8 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
                             if bound < margin[c]:
                                 ok = False
                                 break
+                            if bound - margin[c] >= reach[c] * (nm - 1 - m) / (nm - 1):
+                                break  # the rest of the arc lies in the certified disk around this sample
                     if ok:
                         bits |= np.uint32(1) << np.uint32(c)
                 adm[k, i, j] = bits

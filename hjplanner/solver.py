@@ -233,23 +233,34 @@ def _boundary_data(ws: Workspace, target, tol: float) -> tuple[np.ndarray, float
 
 
 def _first_hits(ws: Workspace, gx, gy, dist, target, radius: float) -> np.ndarray:
-    """0 in the disk of ``radius`` about ``target``; nearby, the arc length along a clear stencil to the disk."""
+    """0 in the disk of ``radius`` about ``target``; nearby, the arc length along a clear stencil to the disk.
+
+    Each arc is sampled every ``s/32``; the hit is placed between the last
+    sample outside and the first inside by linear interpolation of the
+    distance to the disk.
+    """
     grid, free = ws.grid, ws.free
     bc = np.full((grid.ntheta, grid.nx, grid.ny), np.inf)
-    s_max = max(s for _, _, s in ws.ctrl)
-    near = np.nonzero(free & (dist <= radius + s_max + grid.h))
-    inside = free & (dist <= radius)
-    fractions = np.linspace(0.0, 1.0, 65)[1:]
+    v, u, s = (np.array(column, dtype=float) for column in zip(*ws.ctrl))
+    near = np.nonzero(free & (dist <= radius + s.max() + grid.h))
+    bc[:, free & (dist <= radius)] = 0.0
+    fractions = np.linspace(0.0, 1.0, 33)
+    bit = np.uint32(1) << np.arange(len(s), dtype=np.uint32)
     for k, theta in enumerate(grid.theta):
-        layer = bc[k]
-        layer[inside] = 0.0
         starts = np.column_stack([gx[near], gy[near], np.full(len(near[0]), theta)])
-        for c, (v, u, s) in enumerate(ws.ctrl):
-            clear = (ws.stencils["adm"][k][near] >> np.uint32(c)) & 1 == 1
-            ends = arc_step(starts[None, :, :], u, v, s * fractions[:, None], ws.rho)
-            hit = np.hypot(ends[..., 0] - target[0], ends[..., 1] - target[1]) <= radius
-            first = np.where(hit.any(axis=0) & clear, s * fractions[np.argmax(hit, axis=0)], np.inf)
-            layer[near] = np.minimum(layer[near], first)
+        ends = arc_step(starts[:, None, None, :], u[None, :, None], v[None, :, None],
+                        s[None, :, None] * fractions, ws.rho)  # (n, nc, 33, 3)
+        outside = np.hypot(ends[..., 0] - target[0], ends[..., 1] - target[1]) - radius
+        hit = outside <= 0
+        m = np.argmax(hit, axis=-1)
+        before = np.take_along_axis(outside, np.maximum(m - 1, 0)[..., None], -1)[..., 0]
+        after = np.take_along_axis(outside, m[..., None], -1)[..., 0]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            step = np.where(m > 0, before / (before - after), 0.0)
+        first = s * (fractions[np.maximum(m - 1, 0)] + step * (fractions[1] - fractions[0]) * (m > 0))
+        clear = (ws.stencils["adm"][k][near][:, None] & bit) != 0
+        first = np.where(hit.any(axis=-1) & clear, first, np.inf).min(axis=1)
+        bc[k][near] = np.minimum(bc[k][near], first)
     bc[:, ~free] = np.inf
     return bc
 
