@@ -247,4 +247,23 @@ def run_episode(world: World, strategy: Strategy, platforms: Platform | Sequence
         platform=plats[0].name, **world.describe(), **plats[0].summary())
     if len(plats) > 1 or strategy.agents != 1:
         summary.update(n_agents=len(plats), messages=len(messages), starts=starts.tolist())
+    summary.update(_assessment(summary, strategy, plats))
     return Episode(summary, records, messages)
+
+
+def _assessment(summary: dict, strategy: Strategy, platforms: list) -> dict:
+    """What only the evaluator may compute, once the search is over, from the final belief
+    and the observers' *true* positions (which a strategy never sees while searching):
+
+    - ``distance_at_stop``: from the source to the nearest observer's true position;
+    - the keys of ``strategy.assess(summary, true_positions)`` when the strategy defines
+      it: a paper's own test of the belief against the truth, e.g. the self-localisation
+      of Ristic et al. (2014) Sec. 5.1, whose ``success`` replaces the summary's
+      (:meth:`reciprocity.strategies.rbpf.RBPFStrategy.assess`).
+    """
+    true = np.array([p.true_position[:2] for p in platforms], dtype=float)
+    out = {"distance_at_stop": float(np.min(np.hypot(*(true - np.asarray(summary["source"])).T)))}
+    assess = getattr(strategy, "assess", None)
+    if callable(assess):
+        out.update(assess(summary, true))
+    return out

@@ -5,16 +5,8 @@ in module-level caches of the framework (``functools.lru_cache``) keyed on the a
 object; :func:`scenario` keeps one Scenario object per worker process so that every
 episode on the same scenario hits those caches. Nothing heavy is shipped in a task.
 
-Besides the episode summary, a row holds what only the evaluator may compute, from the
-final belief and the observers' *true* positions that a strategy never sees during the
-search (:func:`assessment`):
-
-- ``distance_at_stop``: distance from the source to the nearest observer's true
-  position when the search stopped (world units);
-- the keys of ``strategy.assess(summary, true_positions)`` when the strategy defines it:
-  tests a paper runs on the belief against the truth once the search is over, e.g. the
-  self-localisation of Ristic et al. (2014) Sec. 5.1, whose ``success`` replaces the
-  summary's (see :meth:`reciprocity.strategies.rbpf.RBPFStrategy.assess`).
+A row is the episode summary (which holds the evaluator's columns: see
+:func:`reciprocity.episode.run_episode`) plus the campaign's own columns.
 """
 
 from __future__ import annotations
@@ -31,7 +23,7 @@ import numpy as np
 from ..scenarios import Scenario, load_scenario
 from .spec import SOURCE_CLEARANCE, START_CLEARANCE, EpisodeTask, entry_scenario
 
-__all__ = ["run_task", "execute_task", "assessment", "failure_row", "scenario", "world_draw",
+__all__ = ["run_task", "execute_task", "failure_row", "scenario", "world_draw",
            "cache_stats"]
 
 #: Stream of the episode seed that the world draws (source, start) come from; the
@@ -101,31 +93,6 @@ def execute_task(task: EpisodeTask):
                        platform=task.platform, agents=task.agents, world=world or None)
 
 
-def assessment(summary: dict, strategy, platforms) -> dict:
-    """Evaluation columns from the truth and the final belief (see the module docstring).
-
-    Parameters
-    ----------
-    summary : dict
-        The episode summary.
-    strategy : Strategy
-        The strategy after the episode.
-    platforms : list of Platform
-        The observers after the episode.
-
-    Returns
-    -------
-    dict
-        ``distance_at_stop`` and the keys of ``strategy.assess(summary, true_positions)``.
-    """
-    true = np.array([p.true_position[:2] for p in platforms], dtype=float)
-    out = {"distance_at_stop": float(np.min(np.hypot(*(true - summary["source"]).T)))}
-    assess = getattr(strategy, "assess", None)
-    if callable(assess):
-        out.update(assess(summary, true))
-    return out
-
-
 def run_task(task: EpisodeTask) -> dict:
     """Run one episode; never raises for a failing episode.
 
@@ -137,13 +104,11 @@ def run_task(task: EpisodeTask) -> dict:
     -------
     dict
         The row: the campaign columns (``campaign``, ``episode_id``, ``scenario``,
-        ``variant``, ``seed_index``), the episode summary updated with
-        :func:`assessment`, and ``error_message`` (None, or the exception's type and
+        ``variant``, ``seed_index``), the episode summary, and ``error_message`` (None, or the exception's type and
         message when the episode failed; the summary keys are then absent).
     """
     try:
-        episode, strategy, platforms = execute_task(task)
-        summary = {**episode.summary, **assessment(episode.summary, strategy, platforms)}
+        summary = execute_task(task)[0].summary
     except Exception as exc:  # a failing episode is a result, not the end of the campaign
         return failure_row(task, _one_line(exc))
     return {**_task_columns(task), **summary, "error_message": None}

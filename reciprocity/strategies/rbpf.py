@@ -211,10 +211,9 @@ class RBPFStrategy(Strategy):
 
         The episode's ``success`` in a lattice world is "the searcher stepped on the
         source" (``found``); the paper also asks that the searcher's particles then hold
-        its true node. The episode cannot test that (it never sees the belief) and the
-        strategy must not (it never sees the truth during the search), so the campaign
-        worker calls this once the search is over
-        (:func:`reciprocity.campaign.worker.assessment`).
+        its true node. The strategy must not test that while searching (it never sees the
+        truth), so the episode's evaluator calls this once the search is over
+        (:func:`reciprocity.episode.run_episode`).
 
         Parameters
         ----------
