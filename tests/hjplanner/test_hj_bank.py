@@ -91,3 +91,17 @@ def test_on_demand_planner_lru():
     assert planner.hits == 1 and planner.misses == 4
     with pytest.raises(PlanningError):
         planner.get((5.0, 5.0))
+
+
+def test_readme_bank_command_is_the_car_platforms_bank(tmp_path, paper):
+    """`hjplanner bank` as in the README and the car platform's planner=bank find the same folder."""
+    from hjplanner.cli import _domain, build_parser
+    args = build_parser().parse_args(["bank", "--arena", "paper", "--spacing", "12.7", "--rho", "15", "--h", "1.5",
+                                      "--ntheta", "48", "--clearance", "4", "--reverse"])
+    from_cli = ValueFunctionBank(_domain(args), args.spacing, rho=args.rho, h=args.h, ntheta=args.ntheta,
+                                 clearance=args.clearance, reverse=args.reverse, cache_dir=tmp_path)
+    # reciprocity.car_platform: DrivingOptions defaults, arenas.CarSpec.rho, the arena without its scenario
+    from_car = ValueFunctionBank(paper, 12.7, cache_dir=tmp_path, rho=15.0, h=1.5, ntheta=48, clearance=4.0,
+                                 reverse=True)
+    assert from_cli.directory == from_car.directory
+    np.testing.assert_array_equal(from_cli.targets, from_car.targets)
