@@ -8,6 +8,8 @@ A specification is a YAML mapping (read with ``yaml.safe_load``)::
     platform: point                # point | car | omitted: the scenario's default
     agents: 3                      # optional: number of observers
     random_source: true            # optional: draw source and start per seed (see below)
+    pairs: supported               # optional: run only the (scenario, strategy) pairs that
+                                   # apply (default: every pair, and an unsupported one is an error)
     strategies: [reciprocity, gradient]
     #   or a mapping name -> {parameter: value or [grid values]}:
     #   strategies:
@@ -65,7 +67,7 @@ SOURCE_CLEARANCE = 8.0
 START_CLEARANCE = 5.0
 
 _TOP_KEYS = {"name", "seed", "seeds", "platform", "agents", "random_source", "strategies",
-             "scenarios"}
+             "scenarios", "pairs"}
 _SCENARIO_KEYS = {"name", "label", "world", "random_source", "random_start"}
 _LABEL = re.compile(r"^[A-Za-z][A-Za-z0-9_.+-]*$")
 
@@ -206,11 +208,12 @@ class CampaignSpec:
     variants: tuple[StrategyVariant, ...]
     scenarios: tuple[ScenarioEntry, ...]
     source: dict = field(repr=False)
+    skip: frozenset = frozenset()
 
     @property
     def n_episodes(self) -> int:
         """Number of episodes of the campaign."""
-        return self.seeds * len(self.variants) * len(self.scenarios)
+        return self.seeds * (len(self.variants) * len(self.scenarios) - len(self.skip))
 
     @property
     def digest(self) -> str:
@@ -231,6 +234,8 @@ class CampaignSpec:
             for i in range(self.seeds):
                 seed = episode_seed(self.seed, i)
                 for v in self.variants:
+                    if (sc.label, v.label) in self.skip:
+                        continue
                     yield EpisodeTask(self.name, f"{sc.label}/{v.label}/{i}", sc, v,
                                       self.platform, self.agents, i, seed)
 
@@ -310,7 +315,10 @@ def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
     random_source = _bool(data.get("random_source", False), "random_source")
     variants = _variants(data["strategies"])
     scenarios = _scenarios(data["scenarios"], random_source, Path(base_dir or "."))
-    _check_pairs(scenarios, variants, platform, agents)
+    pairs = data.get("pairs", "all")
+    if pairs not in ("all", "supported"):
+        raise SearchError(f"pairs must be 'all' or 'supported'; got {pairs!r}")
+    skip = _check_pairs(scenarios, variants, platform, agents, supported_only=pairs == "supported")
     source = dict(name=name, seed=seed, seeds=seeds, platform=platform, agents=agents,
                   strategies={v.label: {"strategy": v.strategy, "params": v.params}
                               for v in variants},
@@ -318,10 +326,11 @@ def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
                                   random_source=s.random_source, file_digest=s.file_digest,
                                   # only when set: the hashes of earlier campaigns stay valid
                                   **({"random_start": True} if s.random_start else {}))
-                             for s in scenarios])
+                             for s in scenarios],
+                  **({"pairs": "supported"} if pairs == "supported" else {}))
     _jsonable(source)
     return CampaignSpec(name, seed, seeds, platform, agents, tuple(variants), tuple(scenarios),
-                        source)
+                        source, frozenset(skip))
 
 
 def _int(value, what: str, *, minimum: int) -> int:
@@ -477,9 +486,12 @@ def entry_scenario(entry: ScenarioEntry, scenario: Scenario | None = None) -> Sc
     return dataclasses.replace(sc, starts=None)
 
 
-def _check_pairs(scenarios, variants, platform, agents) -> None:
+def _check_pairs(scenarios, variants, platform, agents, *, supported_only: bool = False) -> set:
+    """Check every pair; return the (scenario label, variant label) pairs to skip (with
+    `supported_only`, those whose strategy does not apply to the scenario's world)."""
     from .. import api
     from ..strategies import STRATEGIES
+    skip = set()
     for sc in scenarios:
         scenario = entry_scenario(sc)
         if sc.random_source and scenario.world != "poisson":
@@ -487,9 +499,16 @@ def _check_pairs(scenarios, variants, platform, agents) -> None:
                               f"(world 'poisson'), not to world {scenario.world!r}")
         for v in variants:
             worlds = getattr(STRATEGIES[v.strategy], "worlds", ("poisson",))
+            if scenario.world not in worlds and supported_only:
+                skip.add((sc.label, v.label))
+                continue
             if scenario.world not in worlds:
                 raise SearchError(f"strategy {v.strategy!r} does not apply to scenario "
                                   f"{sc.label!r} (world {scenario.world!r}); it applies to "
                                   f"{', '.join(worlds)}")
             api.check(scenario, v.strategy, params=v.params, platform=platform, agents=agents,
                       world=sc.world)
+        if len(skip) and all((sc.label, v.label) in skip for v in variants):
+            raise SearchError(f"no strategy of the spec applies to scenario {sc.label!r} "
+                              f"(world {scenario.world!r})")
+    return skip

@@ -78,3 +78,20 @@ def test_missing_and_malformed_files(tmp_path):
     (tmp_path / "bad.yaml").write_text("strategies: [a\n")
     with pytest.raises(SearchError, match="not valid YAML"):
         load_spec(tmp_path / "bad.yaml")
+
+
+def test_pairs_supported_runs_only_the_pairs_that_apply():
+    data = {"seeds": 2, "strategies": ["reciprocity", "rbpf", "random-walk"],
+            "scenarios": ["empty", "ristic-lattice"]}
+    with pytest.raises(SearchError, match="does not apply"):
+        parse_spec(data)
+    spec = parse_spec({**data, "pairs": "supported"})
+    pairs = {(t.scenario.label, t.variant.label) for t in spec.tasks()}
+    assert pairs == {("empty", "reciprocity"), ("empty", "random-walk"),
+                     ("ristic-lattice", "rbpf"), ("ristic-lattice", "random-walk")}
+    assert spec.n_episodes == 2 * len(pairs) == len(list(spec.tasks()))
+    assert spec.digest != parse_spec({**data, "strategies": ["random-walk"]}).digest
+    with pytest.raises(SearchError, match="no strategy of the spec applies to scenario 'ristic-lattice'"):
+        parse_spec({**data, "strategies": ["reciprocity"], "pairs": "supported"})
+    with pytest.raises(SearchError, match="pairs must be"):
+        parse_spec({**data, "pairs": "some"})
