@@ -8,7 +8,8 @@ generally off the grid.  Then
 
     φ_ijk = min( bc_ijk, min_c [ s_c + Σ_ab w_ab φ(i + di + a, j + dj + b, k') ] )
 
-with bilinear weights ``w_ab >= 0`` summing to one.  The update is a monotone,
+with bilinear weights ``w_ab >= 0`` summing to one, over the controls c whose
+whole arc is certified clear of the walls (:func:`stencil_masks`).  The update is a monotone,
 consistent scheme, and its fixed point is found by Gauss-Seidel sweeps.
 Within a heading layer the nodes are visited against the direction of
 straight motion, so the straight-line dependencies are resolved in a single
@@ -196,7 +197,8 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
 
     ``phi`` (ntheta, nx + 2 pad, ny + 2 pad) is updated in place; its border
     and blocked nodes hold BIG, so that a foot in a cell with a blocked
-    corner gives no candidate; ``adm`` is the bitmask of :func:`stencil_masks`.  Values only decrease from the initial data,
+    corner gives no candidate; ``adm`` is the bitmask of :func:`stencil_masks`.
+    Values only decrease from the initial data,
     so the iteration is monotone, and it converges under any (even
     asynchronous) order of the updates: ``nthreads`` threads (the kernels
     release the GIL) sweep disjoint groups of layers concurrently.  Sweeps

@@ -179,7 +179,10 @@ def _stencil_controls(vf) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _arc_values(vf, poses: np.ndarray, us, vs, lengths, lenient: bool) -> tuple[np.ndarray, np.ndarray]:
-    """``s + φ(end of the arc)`` for each pose (n, 3) and control (m,), +inf where the arc is not clear; and the ends."""
+    """``s + φ(end of the arc)`` (n, m) for each pose (n, 3) and control (m,), +inf where the arc is not clear.
+
+    Also returns the arcs' end poses (n, m, 3).
+    """
     n, m = len(poses), len(us)
     starts = np.repeat(poses, m, axis=0)
     u, v, s = np.tile(us, n), np.tile(vs, n), np.tile(lengths, n)

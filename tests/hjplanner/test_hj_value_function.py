@@ -96,7 +96,8 @@ def test_plot_slice(u_room_vf, coarse_vf):
     fig, ax = plt.subplots()
     assert coarse_vf.plot_slice(0.0, ax=ax) is ax
     plt.close(fig)
-    assert repr(coarse_vf) == "ValueFunction(domain='rect[-1,1]x[-1,1]', target=(0.0, 0.0), rho=0.3, grid=41x41x32, h=0.05)"
+    assert repr(coarse_vf) == ("ValueFunction(domain='rect[-1,1]x[-1,1]', target=(0.0, 0.0), rho=0.3, "
+                               "grid=41x41x32, h=0.05)")
 
 
 def test_domain_without_arena_geometry_is_rejected():
