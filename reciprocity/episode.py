@@ -189,6 +189,9 @@ def run_episode(world: World, strategy: Strategy, platforms: Platform | Sequence
     ctx = SearchContext(world.kind, world.nominal(), np.array([p.pose.copy() for p in plats]),
                         np.random.default_rng(strat_ss), messages)
     strategy.start(ctx)
+    # the evaluator classifies the source before the run: can the first observer reach it?
+    reach = plats[0].reachable(np.asarray(world.source, dtype=float)[None])
+    source_reachable = True if reach is None else bool(reach[0])
     for p in plats:
         strategy.restrict(p.reachable)
     records: list[StepRecord] = []
@@ -244,6 +247,7 @@ def run_episode(world: World, strategy: Strategy, platforms: Platform | Sequence
         region_area=strategy.status.region_area, sim_time_s=float(max(p.time for p in plats)),
         wall_time_s=time.perf_counter() - t0,
         start=starts[0].tolist(), params=strategy.params(), n_rejected=int(strategy.n_rejected),
+        source_reachable=source_reachable,
         platform=plats[0].name, **world.describe(), **plats[0].summary())
     if len(plats) > 1 or strategy.agents != 1:
         summary.update(n_agents=len(plats), messages=len(messages), starts=starts.tolist())

@@ -42,7 +42,7 @@ def _check_summary(s: dict, rounds: int) -> None:
     assert s["steps"] <= rounds
     assert s["n_samples"] >= s["n_measurements"] >= 0
     assert s["sim_time_s"] >= 0 and s["wall_time_s"] > 0 and s["path_length"] >= 0
-    assert len(s["source"]) == 2
+    assert len(s["source"]) == 2 and isinstance(s["source_reachable"], bool)
     if s["estimate"] is not None:
         assert s["error"] == pytest.approx(float(np.hypot(*np.subtract(s["estimate"], s["source"]))))
     if s["success"]:

@@ -72,6 +72,20 @@ def test_unreachable_target_is_reported(small):
         plat.execute(Measure([1.5, 30.0]))
 
 
+def test_sources_the_car_cannot_reach_are_classified_before_the_run():
+    pocket = arenas.Arena.from_polygons(
+        [[0, 0], [60, 0], [60, 60], [0, 60]],
+        [[[36, 36], [58, 36], [58, 38], [36, 38]], [[36, 38], [38, 38], [38, 58], [36, 58]],
+         [[38, 56], [58, 56], [58, 58], [38, 58]], [[56, 38], [58, 38], [58, 53], [56, 53]]],
+        name="pocket", source=(47.0, 47.0), strength=500.0, start=(10.0, 10.0, 0.0))
+    inside, _, _ = search(pocket, "random-walk", platform="car", seed=0, h=1.5,
+                          params={"n_steps": 1}, car={"px_per_mm": 0.5})
+    outside, _, _ = search(pocket, "random-walk", platform="car", seed=0, h=1.5, source=(20.0, 30.0),
+                           params={"n_steps": 1}, car={"px_per_mm": 0.5})
+    assert inside.summary["source_reachable"] is False
+    assert outside.summary["source_reachable"] is True
+
+
 def test_gradient_manoeuvre_and_bang_bang_step(platform, world):
     platform.reset([30.0, 12.0, 0.0], world, np.random.default_rng(2))
     start = platform.testbed.estimate.copy()
