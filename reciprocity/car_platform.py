@@ -25,7 +25,7 @@ import numpy as np
 
 from arenas import Arena, ArenaError, CarSpec, Testbed
 from arenas.testbed import dead_reckon
-from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank, optimal_path
+from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank, optimal_path, steering
 
 from .errors import SearchError, UnreachableTarget
 from .intents import Intent, Measure, SampleGradient, StepToward
@@ -63,7 +63,8 @@ class DrivingOptions:
     bank_spacing : float
         Lattice spacing of the bank, cm (the paper: 12.7).
     cache_dir : str, optional
-        Where the bank keeps its value functions (default ``~/.cache/hjplanner``).
+        Where the bank keeps its value functions (default ``$HJPLANNER_CACHE``, else
+        ``~/.cache/hjplanner``; ``hjplanner cache --info`` shows it).
     replan_every : float
         Distance driven between re-plans, cm.
     stop_tol : float
@@ -337,13 +338,9 @@ class CarPlatform(Platform):
         return ends, gears
 
     def _steer(self, vf, est: np.ndarray, v: int) -> float:
-        """Eq. (15) for gear v: ``u = -v sign(φ_θ)``, straight inside the dead band."""
-        d_theta = float(vf.dtheta(*est))
-        if not np.isfinite(d_theta):
-            return float(-v * np.sign(d_theta)) if d_theta != 0 else 0.0
-        if abs(d_theta) <= self.dead_band:
-            return 0.0
-        return float(-v * np.sign(d_theta))
+        """Eq. (15) for gear v: ``u = -v sign(φ_θ)``, straight inside the dead band (the
+        planner's one steering law, :func:`hjplanner.steering`)."""
+        return float(steering(vf, est, self.dead_band, direction=v))
 
     def _unstick(self, vf, attempts: int = 8) -> bool:
         """Drift brought the estimated pose where φ = inf (inside the clearance band, or
