@@ -68,8 +68,12 @@ def _summary_line(s: dict) -> str:
             f"{s.get('collisions', 0):>4}  {s['stop_reason']}")
 
 
-_HEADER = (f"{'strategy':<12} {'meas.':>5} {'samples':>7} {'path cm':>9} {'time s':>7} {'wall s':>7} "
-           f"{'error cm':>9}  {'estimate':<18} {'hits':>4}  stop")
+def _header(world: str = "poisson") -> str:
+    """Column names; lengths are cm in arena (poisson) worlds, the world's unit elsewhere,
+    and time is simulated seconds (steps in step-counted worlds)."""
+    unit = "cm" if world == "poisson" else "  "
+    return (f"{'strategy':<12} {'meas.':>5} {'samples':>7} {'path ' + unit:>9} {'time':>7} {'wall s':>7} "
+            f"{'error ' + unit:>9}  {'estimate':<18} {'hits':>4}  stop")
 
 
 def _write_figures(out: Path, episode, strategy, platform, arena, *, video: bool = False) -> list[Path]:
@@ -212,7 +216,7 @@ def cmd_run(args) -> int:
     if args.json:
         _writable(Path(args.json).parent, "--json")
     episode = _run_one(args, scenario, args.strategy, _params(args.set), out)
-    print(_HEADER)
+    print(_header(episode.summary["world"]))
     print(_summary_line(episode.summary))
     if args.json:
         Path(args.json).write_text(episode.to_json(with_trace=False))
@@ -241,7 +245,7 @@ def cmd_demo(args) -> int:
           f"{noise}, seed {args.seed}, {args.platform} observer")
     print("time s: simulated driving and measuring time (car); wall s: computing time; "
           "hits: collisions with walls")
-    print(_HEADER)
+    print(_header())
     for s in rows:
         print(_summary_line(s))
     print("for comparison, the paper's own testbed runs (Landa et al., one run each, not ours): "
