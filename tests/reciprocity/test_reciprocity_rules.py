@@ -33,7 +33,8 @@ def started(solver, arena, *, noise=12.0, start=(20.0, 20.0), **kw):
 def test_paper_preset_is_algorithm_1(empty):
     arena, solver = empty
     s = started(solver, arena, preset="paper")
-    assert (s.rule, s.combine, s.sigma, s.eps, s.extent_tol) == ("nearest", "mean", "noise", 0.1, np.inf)
+    assert (s.rule, s.combine, s.sigma, s.eps, s.extent_tol, s.tail_tol) == (
+        "nearest", "mean", "noise", 0.1, np.inf, np.inf)
     assert s.sigma_used == 12.0                      # eq. (7): sigma^2 is the noise variance
     assert PRESETS["paper"]["area_tol"] == s.area_tol and s.d == PRESETS["paper"]["d"]
     over = started(solver, arena, preset="paper", sigma=17.0, rule="axis")
