@@ -30,9 +30,10 @@ def draw_floor_plan(path: Path) -> Path:
     return path
 
 
-def main(out_dir=".", seed: int = 0) -> float:
+def main(out_dir="out/examples", seed: int = 0) -> float:
     """Search a drawn arena; return the final error (cm)."""
     out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
     arena = arenas.from_image(draw_floor_plan(out / "floor_plan.png"), cm_per_px=0.5,
                               source=(25.0, 60.0), strength=500.0, start=(60.0, 8.0, 0.0))
     arenas.save(arena, out / "floor_plan.yaml")
@@ -49,4 +50,4 @@ def main(out_dir=".", seed: int = 0) -> float:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else ".")
+    main(sys.argv[1] if len(sys.argv) > 1 else "out/examples")

@@ -20,7 +20,7 @@ def max_error_away(solver, z, rmin, n=4000):
     return np.max(np.abs(solver.green(z)(pts) - r.disk_green(pts, z)))
 
 
-def main(out_dir=".") -> dict:
+def main(out_dir="out/examples") -> dict:
     """Write ``green_convergence.png``; return the observed order for P1 and P2."""
     disk = arenas.Arena.disk((0, 0), 1.0)
     z = np.array([0.3, 0.2])
@@ -35,6 +35,7 @@ def main(out_dir=".") -> dict:
     ax.set_xlabel("mesh size h")
     ax.set_ylabel("max |G_h - G|, |x - z| >= 0.25")
     ax.legend()
+    Path(out_dir).mkdir(parents=True, exist_ok=True)
     fig.savefig(Path(out_dir) / "green_convergence.png", dpi=120)
     print("observed orders (max norm away from the source):",
           ", ".join(f"P{k} {v:.2f}" for k, v in orders.items()))
@@ -42,4 +43,4 @@ def main(out_dir=".") -> dict:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else ".")
+    main(sys.argv[1] if len(sys.argv) > 1 else "out/examples")

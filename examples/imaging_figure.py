@@ -11,7 +11,7 @@ from reciprocity.figures import imaging_steps_figure
 from reciprocity.runner import search
 
 
-def main(out_dir=".", seed: int = 3) -> float:
+def main(out_dir="out/examples", seed: int = 3) -> float:
     """Run the search, write ``imaging_steps.png`` into `out_dir`; return the error (cm)."""
     arena = arenas.load("paper")
     episode, strategy, _ = search(arena, "reciprocity", seed=seed)
@@ -19,6 +19,7 @@ def main(out_dir=".", seed: int = 3) -> float:
     fig = imaging_steps_figure(episode, strategy.imaging, arena, eps=strategy.eps,
                                steps=range(1, n + 1), ncols=min(n, 4))
     out = Path(out_dir) / "imaging_steps.png"
+    out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=150)
     s = episode.summary
     print(f"{n} measurements, estimate ({s['estimate'][0]:.2f}, {s['estimate'][1]:.2f}), "
@@ -27,4 +28,4 @@ def main(out_dir=".", seed: int = 3) -> float:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else ".")
+    main(sys.argv[1] if len(sys.argv) > 1 else "out/examples")

@@ -26,7 +26,7 @@ import arenas  # noqa: E402
 from hjplanner import solve  # noqa: E402
 
 
-def main(out_dir: str | Path = ".", *, h: float = 1.5, ntheta: int = 48, rho: float = 15.0,
+def main(out_dir: str | Path = "out/examples", *, h: float = 1.5, ntheta: int = 48, rho: float = 15.0,
          clearance: float = 4.0, reverse: bool = True, n_paths: int = 5, seed: int = 0) -> tuple[float, float]:
     """Write ``planner_paths.png`` into ``out_dir``; return the largest gap and the smallest wall distance.
 
@@ -89,4 +89,4 @@ def main(out_dir: str | Path = ".", *, h: float = 1.5, ntheta: int = 48, rho: fl
 if __name__ == "__main__":
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     fine = dict(h=1.0, ntheta=72) if "--fine" in sys.argv else {}
-    main(args[0] if args else ".", **fine)
+    main(args[0] if args else "out/examples", **fine)
