@@ -218,7 +218,12 @@ def _paper(x) -> str:
 
 
 def _pct(x) -> str:
-    return "–" if x is None or x != x else f"{100 * x:.0f} %"
+    """A rate in per cent: whole numbers, one decimal where rounding would hide a bound
+    (a Wilson bound of 99.6 % must not print as 100 %)."""
+    if x is None or x != x:
+        return "–"
+    whole = f"{100 * x:.0f}"
+    return f"{100 * x:.1f} %" if whole in ("0", "100") and 0 < x < 1 else f"{whole} %"
 
 
 def comparison_markdown(table: PaperTable, rows: list[dict]) -> str:
