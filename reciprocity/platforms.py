@@ -125,9 +125,7 @@ class PointPlatform(Platform):
             raise SearchError(f"dwell must be a non-negative number of seconds; got {dwell!r}")
         self.space, self.dwell = space, float(dwell)
         self.arena = space.arena
-        t = space.triangles
-        i = np.concatenate([t[:, 0], t[:, 1], t[:, 2]])
-        j = np.concatenate([t[:, 1], t[:, 2], t[:, 0]])
+        i, j = space.edges
         w = np.hypot(*(space.points[i] - space.points[j]).T)
         self._graph = coo_matrix((w, (i, j)), shape=(len(space.points),) * 2).tocsr()
         self._tree = cKDTree(space.points)

@@ -47,6 +47,9 @@ class MeshSpace(SearchSpace):
         Lumped nodal areas (a third of each adjacent triangle), cm².
     wall_distance : ndarray, shape (n,)
         Distance of each node to the nearest wall, cm.
+    edges : tuple of ndarray
+        ``(i, j)``: the triangles' directed edges as node index pairs (each interior
+        edge appears twice, once per direction).
     mesh : skfem.MeshTri, optional
         An existing mesh of the arena to wrap instead of meshing (keyword only).
     """
@@ -58,7 +61,7 @@ class MeshSpace(SearchSpace):
         self.triangles = self.mesh.t.T
         self.cell_areas = node_areas(self.points, self.triangles)
         t = self.triangles
-        self._edges = (np.concatenate([t[:, 0], t[:, 1], t[:, 2]]),
+        self.edges = (np.concatenate([t[:, 0], t[:, 1], t[:, 2]]),
                        np.concatenate([t[:, 1], t[:, 2], t[:, 0]]))
         self._labels: dict[float, np.ndarray] = {}
         self._triangulation: Triangulation | None = None
@@ -101,7 +104,7 @@ class MeshSpace(SearchSpace):
 
     def neighbours(self, i: int) -> np.ndarray:
         if self._adjacency is None:
-            i_, j_ = self._edges
+            i_, j_ = self.edges
             n = len(self.points)
             a = coo_matrix((np.ones(i_.size), (i_, j_)), shape=(n, n)).tocsr()
             self._adjacency = ((a + a.T) > 0).tocsr()
@@ -143,7 +146,7 @@ class MeshSpace(SearchSpace):
         key = float(clearance)
         if key not in self._labels:
             ok = self.admissible(key)
-            i, j = self._edges
+            i, j = self.edges
             keep = ok[i] & ok[j]
             n = len(self.points)
             graph = coo_matrix((np.ones(keep.sum()), (i[keep], j[keep])), shape=(n, n))
