@@ -198,6 +198,14 @@ class CarPlatform(Platform):
             finite |= np.isfinite(vf(pts[:, 0], pts[:, 1], np.full(len(pts), th), cubic=False))
         return finite
 
+    def nominal(self) -> dict:
+        """``reading_noise``: the calibrated standard deviation of one dwell's reading,
+        signal units (:meth:`arenas.sensor.Calibration.signal_noise` over the dwell's
+        samples)."""
+        tb = self.testbed
+        n = max(1, int(round(self.options.dwell * tb.sensor.rate)))
+        return dict(reading_noise=tb.calibration.signal_noise(tb.floor.mapping, n))
+
     def summary(self) -> dict:
         tb = self.testbed
         return dict(collisions=len(tb.car.collisions),

@@ -186,7 +186,10 @@ def run_episode(world: World, strategy: Strategy, platforms: Platform | Sequence
         p.agent = k
         p.reset(s if len(s) == 3 else np.append(s, 0.0), world, np.random.default_rng(ss))
     messages = MessageLog()
-    ctx = SearchContext(world.kind, world.nominal(), np.array([p.pose.copy() for p in plats]),
+    # the strategy sees the world's nominal description and what the (first) platform
+    # knows of its own readings (its calibration), never the truth
+    ctx = SearchContext(world.kind, {**world.nominal(), **plats[0].nominal()},
+                        np.array([p.pose.copy() for p in plats]),
                         np.random.default_rng(strat_ss), messages)
     strategy.start(ctx)
     # the evaluator classifies the source before the run: can the first observer reach it?

@@ -53,6 +53,13 @@ class Platform(ABC):
         when it can reach the whole free region (the episode then adds no restriction)."""
         return None
 
+    def nominal(self) -> dict:
+        """What the platform knows of its own readings, added to the world's nominal
+        description a strategy sees (e.g. ``reading_noise``: the standard deviation of one
+        reading, signal units, from the platform's own calibration). Called after
+        :meth:`reset`."""
+        return {}
+
     def step_log(self) -> dict:
         """Platform-specific records of the last intent for the episode trace."""
         return {}

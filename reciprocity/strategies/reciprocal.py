@@ -88,7 +88,15 @@ DEFAULTS = dict(rule="axis", combine="product", sigma="auto", eps=0.1, area_tol=
                 extent_tol=5.0, d=6.0, reach=12.0, tail_tol=10.0)
 PRESETS = {"paper": dict(rule="nearest", combine="mean", sigma="noise", eps=0.1, area_tol=40.0,
                          extent_tol=float("inf"), d=6.0, reach=12.0, tail_tol=float("inf"))}
-SIGMA_RULES = ("auto", "noise")
+SIGMA_RULES = ("auto", "noise", "calibrated")
+#: Stop with ``StopReason.UNREACHABLE`` once the belief puts less than this mass within
+#: `reach` of every point the observer can reach (the source is out of reach with 95 %
+#: probability). On the car (``benchmarks/search_car.yaml``) the mass after the second
+#: reading was >= 0.99 for every reachable source tried and <= 0.11 for every unreachable
+#: one, falling below 0.05 within a few readings.
+UNREACH_MASS = 0.05
+#: Readings before the mass rule above applies (the first reading alone leaves a band).
+UNREACH_MIN_READINGS = 2
 
 
 class ReciprocityStrategy(Strategy):
@@ -129,8 +137,12 @@ class ReciprocityStrategy(Strategy):
         apart. Once the belief sits in one lattice cell, as ``"axis"``.
 
     Every search stops at once with ``StopReason.UNREACHABLE`` when no point it may
-    measure at is reachable, or when the whole region of possible sources lies farther
-    than `reach` (sensing reach) from every reachable point. When the belief has two or more
+    measure at is reachable, when the whole region of possible sources lies farther
+    than `reach` (sensing reach) from every reachable point, or, from the second reading
+    on, when the belief holds less than UNREACH_MASS within `reach` of the reachable points
+    (a source behind a gap narrower than the car: the region stays wide, because readings
+    through the gap are weak, but the readings the car can take rule out every source it
+    could reach). When the belief has two or more
     separate modes in ``{P_M >= eps}`` (each holding at least MODE_MASS of it), a search
     that reaches `max_steps` says how many and how far apart the two largest are, and
     the ``"info"`` rule, when no admissible point is expected to gain INFO_GAIN_MIN
@@ -179,12 +191,18 @@ class ReciprocityStrategy(Strategy):
         Next-point rule (see above).
     combine : {"mean", "product"}
         Combination of the maps (eq. 8, or the normalised likelihood).
-    sigma : float or {"auto", "noise"}
-        ``sigma`` of eq. (7), signal units; ``"auto"``: ``sqrt 2`` times the reading
-        noise, ``"noise"``: the reading noise. The reading noise is the nominal
-        description's ``reading_noise`` (the noise of one averaged reading, e.g. a car's
-        calibrated sensor noise over ``sqrt`` of its samples per dwell), else its
-        ``noise``, else PAPER_NOISE; at least MIN_NOISE.
+    sigma : float or {"auto", "noise", "calibrated"}
+        ``sigma`` of eq. (7), signal units; ``"auto"``: ``sqrt 2`` times the noise the
+        world states (its nominal ``noise``, else PAPER_NOISE), ``"noise"``: that noise
+        itself; ``"calibrated"``: ``sqrt 2`` times the platform's own ``reading_noise``
+        (the car's calibration: :meth:`arenas.sensor.Calibration.signal_noise` of one
+        1 s dwell, about 2.1 signal units on ``paper``), else as ``"auto"``. Each at
+        least MIN_NOISE. ``"calibrated"`` is not the default on the car: with it the
+        reachable sources of ``benchmarks/search_car.yaml`` converge in fewer readings
+        (3-6 instead of 4-8 on the pairs tried) but the imaging is then sharper than the
+        calibration's own bias (the same for every reading of a run) and the floor's clip
+        at zero signal allow, and runs converged 6 and 89 cm off where ``"auto"`` did not
+        (see the closing note of issue 10 for the table).
     eps : float
         Threshold ``0 < eps < 1`` defining the region of possible sources.
     area_tol : float
@@ -206,7 +224,14 @@ class ReciprocityStrategy(Strategy):
         Observation points keep this distance (cm) from walls.
     strength : float or "arena" or None
         Source strength: a number, ``"arena"`` for the nominal strength (the paper
-        assumes it known), or None for unknown (estimated per point by least squares).
+        assumes it known), or None for unknown (see `strength_range`).
+    strength_range : "decade" or (float, float) or "fit"
+        With ``strength=None``: the strength is integrated out of the likelihood over a
+        uniform prior on ``(lo, hi)``; ``"decade"`` (default) is a tenth to ten times the
+        world's nominal strength; ``"fit"`` fits it per point by least squares instead (the
+        paper's setting has the strength known; the fit lets a far point explain small
+        readings with ``c ≈ 0`` and was the cause of most step-cap runs with unknown
+        strength). Only with ``combine="product"``; the mean keeps the fit.
     h : float
         Mesh size (cm) of the solver built by :meth:`start` when none is given.
     solver : GreenSolver, optional
@@ -226,8 +251,8 @@ class ReciprocityStrategy(Strategy):
                  area_tol: float | None = None, extent_tol: float | None = None,
                  d: float | None = None, reach: float | None = None,
                  tail_tol: float | None = None, max_steps: int = 30,
-                 clearance: float = 3.0, strength="arena", h: float = 1.0,
-                 solver: GreenSolver | None = None):
+                 clearance: float = 3.0, strength="arena", strength_range="decade",
+                 h: float = 1.0, solver: GreenSolver | None = None):
         super().__init__()
         if preset is not None and preset not in PRESETS:
             raise SearchError(f"preset must be one of {tuple(PRESETS)} or None; got {preset!r}")
@@ -253,6 +278,18 @@ class ReciprocityStrategy(Strategy):
             raise SearchError(f"clearance must be >= 0 cm; got {clearance!r}")
         if int(max_steps) < 1:
             raise SearchError(f"max_steps must be at least 1; got {max_steps!r}")
+        if isinstance(strength_range, str):
+            if strength_range not in ("decade", "fit"):
+                raise SearchError(f"strength_range must be 'decade', 'fit' or (lo, hi); got {strength_range!r}")
+        else:
+            try:
+                lo, hi = (float(v) for v in strength_range)
+            except (TypeError, ValueError):
+                raise SearchError(f"strength_range must be 'decade', 'fit' or (lo, hi); "
+                                  f"got {strength_range!r}") from None
+            if not (np.isfinite(lo) and np.isfinite(hi) and 0 <= lo < hi):
+                raise SearchError(f"strength_range needs 0 <= lo < hi; got {strength_range!r}")
+            strength_range = (lo, hi)
         if p["rule"] not in RULES:
             raise SearchError(f"rule must be one of {RULES}; got {p['rule']!r}")
         if p["combine"] not in COMBINATIONS:
@@ -264,6 +301,7 @@ class ReciprocityStrategy(Strategy):
         self.d, self.reach, self.tail_tol = float(p["d"]), float(p["reach"]), float(p["tail_tol"])
         self.max_steps, self.clearance = int(max_steps), float(clearance)
         self.strength, self.h, self.solver = strength, float(h), solver
+        self.strength_range = strength_range
 
     def params(self) -> dict:
         return dict(preset=self.preset, rule=self.rule, reach=self.reach, eps=self.eps,
@@ -271,15 +309,19 @@ class ReciprocityStrategy(Strategy):
                     sigma=self.sigma, sigma_used=getattr(self, "sigma_used", None),
                     max_steps=self.max_steps, clearance=self.clearance, combine=self.combine,
                     strength=self.strength if not isinstance(self.strength, float) else float(self.strength),
+                    strength_range=self.strength_range if isinstance(self.strength_range, str)
+                    else list(self.strength_range),
                     h=self.h if self.solver is None else self.solver.h)
 
     def reading_sigma(self, nominal: dict) -> float:
         """``sigma`` of eq. (7) for a world described by `nominal` (signal units)."""
         if not isinstance(self.sigma, str):
             return self.sigma
-        noise = nominal.get("reading_noise", nominal.get("noise", PAPER_NOISE))
+        noise = nominal.get("noise", PAPER_NOISE)
+        if self.sigma == "calibrated":
+            noise = nominal.get("reading_noise", noise)
         noise = max(float(noise), MIN_NOISE)
-        return np.sqrt(2.0) * noise if self.sigma == "auto" else noise
+        return noise if self.sigma == "noise" else np.sqrt(2.0) * noise
 
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
@@ -289,7 +331,8 @@ class ReciprocityStrategy(Strategy):
             self.solver = cached_solver(geometry, self.h)
         c = ctx.nominal.get("strength", arena.strength) if self.strength == "arena" else self.strength
         self.sigma_used = float(self.reading_sigma(ctx.nominal))
-        self.imaging = ImagingMap(self.solver, self.sigma_used, strength=c, combine=self.combine)
+        self.imaging = ImagingMap(self.solver, self.sigma_used, strength=c, combine=self.combine,
+                                  strength_range=self._prior_range(ctx) if c is None else None)
         self.space = self._space(geometry)
         self.rng = ctx.rng
         self._reachable = self.space.reachable_from(pose[:2], self.clearance)
@@ -298,6 +341,17 @@ class ReciprocityStrategy(Strategy):
         self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
             if self.rule == "info" else None
         self._check_reachable()
+
+    def _prior_range(self, ctx: SearchContext) -> tuple[float, float] | None:
+        """The strength prior ``(lo, hi)`` for an unknown strength, or None to fit it."""
+        if self.strength_range == "fit":
+            return None
+        if self.strength_range == "decade":
+            nominal = ctx.nominal.get("strength")
+            if nominal is None or not np.isfinite(nominal) or nominal <= 0:
+                return None
+            return (float(nominal) / 10.0, float(nominal) * 10.0)
+        return self.strength_range
 
     def _space(self, geometry) -> MeshSpace:
         """The candidate points: the nodes of the solver's own P1 mesh."""
@@ -389,6 +443,14 @@ class ReciprocityStrategy(Strategy):
         if not (region & near).any():
             self.stop(StopReason.UNREACHABLE, "the whole region of possible sources "
                                               f"({region.sum()} nodes) lies out of reach")
+            return
+        if self.imaging.n >= UNREACH_MIN_READINGS:
+            w = self.imaging.weights()
+            within = float(w[near].sum() / w.sum())
+            if within < UNREACH_MASS:
+                self.stop(StopReason.UNREACHABLE, f"the source lies out of reach with probability "
+                                                  f"{1.0 - within:.3f} (belief mass within {self.reach:g} cm "
+                                                  f"of a reachable point: {within:.3f})")
 
     def _near_reachable(self) -> np.ndarray:
         key = self._reachable.tobytes()

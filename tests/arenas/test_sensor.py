@@ -177,3 +177,22 @@ def test_fig3_plot_has_the_knee_line(calibration):
     assert len(knee) == 1 and list(knee[0].get_xdata()) == [185.0, 185.0]
     assert "grey" in ax.get_xlabel() and "ADC counts" in ax.get_ylabel()
     plt.close(ax.figure)
+
+
+def test_signal_noise_predicts_the_spread_of_calibrated_dwell_readings():
+    """Each trial: a new calibration and one 30-sample dwell at grey 100 of an unquantised
+    floor. The spread of the signals over the trials is the calibrated noise without the
+    quantisation term, to the sampling error of 300 trials (3.5 % per sigma of a std)
+    plus the slope's variation over the working range."""
+    sensor, mapping = ReflectanceSensor(), GreyMapping(u_max=290.0)
+    rng = np.random.default_rng(11)
+    values = []
+    for _ in range(300):
+        cal = sensor.calibrate(rng)
+        counts = sensor.read_grey(np.full(30, 100.0), rng)
+        values.append(float(cal.intensity(counts.mean(), mapping, n=30)[0]))
+    predicted = np.sqrt(cal.signal_noise(mapping, 30) ** 2 - (1.0 / np.sqrt(12.0) / mapping.slope) ** 2)
+    assert np.std(values, ddof=1) == pytest.approx(predicted, rel=0.2)
+    assert cal.signal_noise(mapping, 30) < cal.signal_noise(mapping, 1)
+    with pytest.raises(ArenaError, match="positive integer"):
+        cal.signal_noise(mapping, 0)

@@ -80,6 +80,37 @@ def test_unknown_strength_is_recovered_by_least_squares(solver):
     assert im.strength_map()[i] == pytest.approx(600.0, rel=0.05)
 
 
+def test_unknown_strength_integrated_over_its_prior(solver):
+    """The closed-form marginal equals brute-force quadrature over the 1/c prior at a few
+    nodes, and noiseless readings still locate the source with the strength unknown."""
+    from scipy.integrate import quad
+    source = np.array([90.0, 60.0])
+    lo, hi = 60.0, 6000.0
+    im = r.ImagingMap(solver, sigma=5.0, strength=None, combine="product", strength_range=(lo, hi))
+    rng = np.random.default_rng(2)
+    for p, reading in _noiseless(solver, source, POINTS, c=600.0):
+        im.add(p, reading + rng.normal(0.0, 2.0))
+    misfit = im._marginal_misfit()
+    nodes = [int(np.argmin(np.hypot(*(solver.nodes - q).T))) for q in ([90, 60], [70, 70], [20, 120], [130, 20])]
+    g, I = im._g, im.readings
+
+    def evidence(i):
+        f = lambda c: np.exp(-np.sum((c * g[i] - I) ** 2) / im.sigma ** 2) / c
+        return quad(f, lo, hi, points=[np.clip(g[i] @ I / (g[i] @ g[i]), lo, hi)], limit=200)[0]
+
+    brute = np.array([evidence(i) for i in nodes])
+    ratio = brute / np.exp(-misfit[nodes])
+    finite = brute > 1e-300
+    assert finite.sum() >= 2
+    # the same up to one constant factor, to the 1/c variation within a cell (< 2 %)
+    assert np.allclose(ratio[finite] / ratio[finite][0], 1.0, rtol=0.02)
+    assert np.hypot(*(im.estimate() - source)) < solver.h
+    i = nodes[0]
+    assert im.strength_map()[i] == pytest.approx(600.0, rel=0.05)
+    with pytest.raises(r.ReciprocityError, match="strength_range"):
+        r.ImagingMap(solver, sigma=5.0, strength=None, strength_range=(10.0, 1.0))
+
+
 def test_level_set_lies_on_the_reading(solver):
     source = np.array([90.0, 60.0])
     im = r.ImagingMap(solver, sigma=5.0, strength=850.0)
@@ -116,3 +147,18 @@ def test_bad_input(solver):
     im.add((10.0, 10.0), 1.0)
     with pytest.raises(r.ReciprocityError, match="eps"):
         im.area(1.5)
+
+
+def test_large_probe_sets_are_remembered(solver):
+    """A raster (a painted floor) is located once per solver: the second field on it is
+    a sparse product, with the same values as locating again."""
+    from reciprocity.green import PROBE_CACHE_MIN
+    rng = np.random.default_rng(0)
+    pts = rng.uniform([5, 5], [135, 135], size=(PROBE_CACHE_MIN, 2))
+    m1, in1 = solver.probe_matrix(pts)
+    m2, in2 = solver.probe_matrix(pts.copy())
+    assert m2 is m1 and in2 is in1
+    fresh, inside = solver._probe_matrix(pts)
+    assert (abs(fresh - m1)).max() == 0 and np.array_equal(inside, in1)
+    small = pts[:10]
+    assert solver.probe_matrix(small)[0] is not solver.probe_matrix(small)[0]

@@ -42,11 +42,13 @@ def test_paper_preset_is_algorithm_1(empty):
     default = started(solver, arena, noise=5.0)
     assert default.sigma_used == pytest.approx(5.0 * np.sqrt(2.0))   # likelihood-consistent
     told = started(solver, arena, noise=12.0)
-    told_car = r.ReciprocityStrategy(solver=solver)
-    told_car.start(r.SearchContext("poisson", dict(arena=arena.without_scenario(), strength=850.0,
-                                                   noise=12.0, reading_noise=2.0),
-                                   np.array([[20.0, 20.0, 0.0]]), np.random.default_rng(0)))
+    car_nominal = dict(arena=arena.without_scenario(), strength=850.0, noise=12.0, reading_noise=2.0)
+    told_car = r.ReciprocityStrategy(solver=solver, sigma="calibrated")
+    told_car.start(r.SearchContext("poisson", car_nominal, np.array([[20.0, 20.0, 0.0]]),
+                                   np.random.default_rng(0)))
     assert told.sigma_used > told_car.sigma_used == pytest.approx(2.0 * np.sqrt(2.0))
+    # the default keeps the world's stated noise even when the platform reports its own
+    assert r.ReciprocityStrategy().reading_sigma(car_nominal) == pytest.approx(12.0 * np.sqrt(2.0))
     with pytest.raises(r.SearchError, match="preset"):
         r.ReciprocityStrategy(preset="landa")
     with pytest.raises(r.SearchError, match="sigma"):
@@ -115,6 +117,38 @@ def test_unreachable_region_stops_at_once(empty):
     s.imaging._cache["P"] = (solver.nodes[:, 0] > 110).astype(float)   # sources on the right
     s.restrict(lambda pts: pts[:, 0] < 60)          # observer on the left, out of reach
     assert s.outcome.reason == r.StopReason.UNREACHABLE and "out of reach" in s.outcome.detail
+
+
+def test_belief_out_of_reach_stops_with_its_probability(empty):
+    """A source behind a gap the observer cannot pass: the region still touches the
+    reachable part (weak readings through the gap), but less than UNREACH_MASS of the
+    belief lies within reach: the search stops and says how sure it is."""
+    from reciprocity.strategies.reciprocal import UNREACH_MASS
+    arena, solver = empty
+    x = solver.nodes[:, 0]
+    for strip, stops in ((0.2, True), (1.0, False)):
+        s = started(solver, arena)
+        s.restrict(lambda pts: pts[:, 0] < 50)      # the observer keeps to the left
+        s.imaging.add((20.0, 20.0), 0.0)
+        s.imaging.add((20.0, 60.0), 0.0)
+        # most belief far right, a faint strip just beyond the reachable part
+        s.imaging._cache["P"] = np.where(x > 110, 1.0, np.where((x > 55) & (x < 60), strip, 0.0))
+        within = s.imaging.weights()[s._near_reachable()].sum()
+        assert (within < UNREACH_MASS) == stops and (s.region() & s._near_reachable()).any()
+        s._check_reachable()
+        if stops:
+            assert s.outcome.reason == r.StopReason.UNREACHABLE
+            p = float(re.search(r"out of reach with probability ([0-9.]+)", s.outcome.detail).group(1))
+            assert p == pytest.approx(1.0 - within, abs=1e-3)
+        else:
+            assert not s.done
+    # one reading alone never triggers it (a single level set is a band)
+    s = started(solver, arena)
+    s.restrict(lambda pts: pts[:, 0] < 50)
+    s.imaging.add((20.0, 20.0), 0.0)
+    s.imaging._cache["P"] = np.where(x > 110, 1.0, np.where((x > 55) & (x < 60), 0.2, 0.0))
+    s._check_reachable()
+    assert not s.done
 
 
 def test_info_rule_statistics_on_empty(empty):
