@@ -417,7 +417,9 @@ class CarPlatform(Platform):
         six actions whose chord points nearest to the target's direction (section II of
         the paper)."""
         o, tb = self.options, self.testbed
-        rho, margin = tb.spec.rho, 0.5 * tb.spec.width + 0.5
+        # the whole body, not just its width, must stay clear along the step (half the
+        # width let the corners scrape: 16 wall contacts in 24 gradient runs on the car)
+        rho, margin = tb.spec.rho, 0.5 * np.hypot(tb.spec.length, tb.spec.width) + 0.3
         est = tb.estimate.copy()
         length = float(np.hypot(*(target - tb.sensor.position(est)[0])))
         driven = 0.0
@@ -429,7 +431,8 @@ class CarPlatform(Platform):
             best, best_gap = None, np.inf
             for u, v in ACTIONS:
                 end = dead_reckon(est, u, v, o.bang_step, rho)
-                if not self._free(end, margin):
+                mid = dead_reckon(est, u, v, 0.5 * o.bang_step, rho)
+                if not (self._free(end, margin) and self._free(mid, margin)):
                     continue
                 chord = tb.sensor.position(end)[0] - spot
                 gap = abs((np.arctan2(chord[1], chord[0]) - want + np.pi) % (2 * np.pi) - np.pi)

@@ -90,11 +90,38 @@ def test_gradient_ascent_reaches_the_source_without_noise(empty):
     S = ep.summary
     assert S["stop_reason"] == "converged: gradient puts the source within stop_radius" and S["success"]
     assert S["converged"] and S["error"] < s.stop_radius
-    paper_rule = episode(arena, r.GradientStrategy(h=2.0, i_max=300.0), noise=0.0)
+    paper_rule = episode(arena, r.GradientStrategy(h=2.0, i_max=300.0, stop_radius=0.0), noise=0.0)
     assert paper_rule.summary["stop_reason"] == "converged: signal above i_max"
     n_gradients = sum(rec["kind"] == "gradient" for rec in ep.trace)
     assert S["n_samples"] == S["n_measurements"] + 2 * n_gradients
     assert len(s.gradients) == n_gradients
+
+
+def test_gradient_ascent_stops_when_it_stalls(empty):
+    """Gradient steps that keep starting from the same few centimetres (a car circling
+    the saturated disk) end the search at the strongest sample, not at the step cap."""
+    from reciprocity.intents import Measure, SampleGradient
+    arena, solver, truth = empty
+    s = r.GradientStrategy(h=2.0, i_max=1e6, stop_radius=0.0)
+    s.start(r.SearchContext("poisson", dict(arena=arena.without_scenario(), strength=arena.strength, noise=0.0),
+                            np.array([[70.0, 70.0, 0.0]]), np.random.default_rng(0)))
+    centre = np.array([70.0, 70.0])
+    for k in range(6):
+        p = centre + 2.0 * np.array([np.cos(k), np.sin(k)])
+        s.observe([r.Observation(p, 100.0 + k)], Measure(p))
+        assert isinstance(s.propose(), SampleGradient)
+        # a weak, turning gradient: the source looks far (no radius stop), the steps go round
+        s.observe([r.Observation(p + [5.0, 0.0], 100.0 + k), r.Observation(p + [0.0, 5.0], 100.5 + k)],
+                  SampleGradient(p, 5.0))
+        if s.done:
+            break
+    assert s.done and s.outcome.reason == r.StopReason.CONVERGED and "stalled" in s.outcome.detail
+    assert len(s.gradients) == s.stall_steps
+    assert np.allclose(s.estimate, centre + 2.0 * np.array([np.cos(2), np.sin(2)]) + [0.0, 5.0])
+    with pytest.raises(r.SearchError, match="stall_steps"):
+        r.GradientStrategy(stall_steps=1)
+    with pytest.raises(r.SearchError, match="stop_radius"):
+        r.GradientStrategy(stop_radius=0.0)
 
 
 def test_episode_summary_and_trace_serialise(tmp_path):
