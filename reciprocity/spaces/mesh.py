@@ -13,7 +13,7 @@ from functools import lru_cache
 import numpy as np
 from matplotlib.tri import Triangulation
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
+from scipy.sparse.csgraph import connected_components, dijkstra
 from scipy.spatial import cKDTree
 
 from arenas import Arena
@@ -68,6 +68,7 @@ class MeshSpace(SearchSpace):
         self._finder = None
         self._wall_distance = None
         self._adjacency = None
+        self._edge_graph = None
         # point location: nearest triangle centroids, then barycentric coordinates
         corners = self.points[self.triangles]                      # (m, 3, 2)
         self._centroid_tree = cKDTree(corners.mean(axis=1))
@@ -154,6 +155,33 @@ class MeshSpace(SearchSpace):
             label[~ok] = -1
             self._labels[key] = label
         return self._labels[key]
+
+    def within_path(self, mask: np.ndarray, distance: float) -> np.ndarray:
+        """Mask of nodes at most `distance` (cm) from a node of `mask` along the mesh's
+        edges, i.e. through the free region, never through a wall.
+
+        Parameters
+        ----------
+        mask : ndarray of bool, shape (n,)
+            The starting nodes.
+        distance : float
+            Path length, cm.
+
+        Returns
+        -------
+        ndarray of bool, shape (n,)
+        """
+        mask = np.asarray(mask, dtype=bool)
+        if not mask.any():
+            return np.zeros(len(self.points), dtype=bool)
+        if self._edge_graph is None:
+            i, j = self.edges
+            w = np.hypot(*(self.points[i] - self.points[j]).T)
+            n = len(self.points)
+            self._edge_graph = coo_matrix((w, (i, j)), shape=(n, n)).tocsr()
+        d = dijkstra(self._edge_graph, directed=False, indices=np.flatnonzero(mask),
+                     min_only=True, limit=float(distance))
+        return np.isfinite(d)
 
     def reachable_from(self, point, clearance: float = 0.0) -> np.ndarray:
         """Mask of nodes at `clearance` from the walls in the connected part of that

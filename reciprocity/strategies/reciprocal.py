@@ -97,6 +97,10 @@ SIGMA_RULES = ("auto", "noise", "calibrated")
 UNREACH_MASS = 0.05
 #: Readings before the mass rule above applies (the first reading alone leaves a band).
 UNREACH_MIN_READINGS = 2
+#: Paths along the edges of the graded mesh are up to 1.8 times the straight line in the
+#: open (``tests/reciprocity/test_spaces.py``): "within reach" allows twice `reach` along
+#: the free region, which still excludes rooms closed off by walls.
+PATH_SLACK = 2.0
 
 
 class ReciprocityStrategy(Strategy):
@@ -138,8 +142,9 @@ class ReciprocityStrategy(Strategy):
 
     Every search stops at once with ``StopReason.UNREACHABLE`` when no point it may
     measure at is reachable, when the whole region of possible sources lies farther
-    than `reach` (sensing reach) from every reachable point, or, from the second reading
-    on, when the belief holds less than UNREACH_MASS within `reach` of the reachable points
+    than `reach` (sensing reach; a source in a room closed off by walls is never within
+    it) from every reachable point, or, from the second reading on, when the belief holds less than
+    UNREACH_MASS within `reach` of the reachable points
     (a source behind a gap narrower than the car: the region stays wide, because readings
     through the gap are weak, but the readings the car can take rule out every source it
     could reach). When the belief has two or more
@@ -455,9 +460,13 @@ class ReciprocityStrategy(Strategy):
     def _near_reachable(self) -> np.ndarray:
         key = self._reachable.tobytes()
         if getattr(self, "_near_key", None) != key:
+            # within reach in a straight line, and along the free region (mesh edges, at
+            # most PATH_SLACK times longer than the straight line in the open): a source
+            # in a closed-off room is not within reach of the other side of its wall
             pts = self.space.points
             dist = cKDTree(pts[self._reachable]).query(pts, distance_upper_bound=self.reach)[0]
-            self._near, self._near_key = np.isfinite(dist), key
+            path = self.space.within_path(self._reachable, PATH_SLACK * self.reach)
+            self._near, self._near_key = np.isfinite(dist) & path, key
         return self._near
 
     def _choose_next(self) -> None:

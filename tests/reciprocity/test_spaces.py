@@ -32,6 +32,26 @@ def test_reachability_respects_the_clearance_and_gaps():
     assert np.all(arena.wall_distance(space.points[tight]) >= 4.0 - 1e-9)
 
 
+def test_path_distance_goes_around_walls():
+    """Nodes within a path length (along mesh edges) of a set: never farther than the
+    straight line, within a factor 2 of it in the open, and not through a wall (the far
+    side of deep_u's wall is close in a straight line only)."""
+    space = mesh_space(arenas.load("empty").without_scenario(), 2.0)
+    seed = np.zeros(len(space.points), dtype=bool)
+    seed[np.argmin(np.hypot(*(space.points - [70.0, 70.0]).T))] = True
+    near = space.within_path(seed, 20.0)
+    r = np.hypot(*(space.points - space.points[seed][0]).T)
+    assert np.all(near[r < 10.0]) and not np.any(near[r > 20.0])
+    arena = arenas.load("deep_u").without_scenario()
+    space = mesh_space(arena, 2.0)
+    inside = np.zeros(len(space.points), dtype=bool)
+    inside[np.argmin(np.hypot(*(space.points - arenas.load("deep_u").source).T))] = True
+    near = space.within_path(inside, 15.0)
+    straight = np.hypot(*(space.points - space.points[inside][0]).T) <= 15.0
+    assert near.sum() < straight.sum() and not np.any(near & ~straight)
+    assert not space.within_path(np.zeros(len(space.points), dtype=bool), 10.0).any()
+
+
 def test_grid_neighbours_and_masking():
     g = GridSpace(((0, 4), (0, 3)), 1.0, connectivity=8, mask=lambda p: ~((p[:, 0] > 2) & (p[:, 1] > 2)))
     assert len(g) == 10                       # 12 cells; (2.5, 2.5) and (3.5, 2.5) masked
