@@ -86,7 +86,15 @@ class LatticeReciprocityStrategy(Strategy):
     green : {"estimated", "complete"}
         With ``map="rbpf"``: the Green's function of the lattice weighted by the RBPF's
         link probabilities, refactorised every step (``"estimated"``), or that of the
-        complete lattice (``"complete"``, the ablation: what the map estimate adds).
+        complete lattice (``"complete"``, the ablation: what the map estimate adds), or
+        (``"sampled"``) the likelihood averaged over `n_maps` maps drawn link by link from
+        the RBPF's link probabilities (the Bayesian average over the map, by Monte Carlo,
+        instead of the Green's function of the average map).
+    n_maps : int
+        K, maps drawn per step for ``green="sampled"`` (common random numbers).
+    unseen : {"rbpf", "nominal"}
+        Probability of a link the RBPF has not seen, in the Green's function: the RBPF's
+        prior 1/2 (``"rbpf"``) or ``1 − p`` of the world's nominal p (``"nominal"``).
     support : float
         Position probability above which a node counts as "in the support" for the
         self-localisation test (``map="known"``; default 1/4000, the RBPF's resolution).
@@ -114,7 +122,8 @@ class LatticeReciprocityStrategy(Strategy):
 
     def __init__(self, *, map: str = "known", rule: str = "path", strength: float | None = None,
                  eta0: float = 15.0, theta0: float = 1.0, slip: float | None = None,
-                 n_particles: int = 4000, support: float = SUPPORT, green: str = "estimated"):
+                 n_particles: int = 4000, support: float = SUPPORT, green: str = "estimated",
+                 n_maps: int = 16, unseen: str = "rbpf"):
         super().__init__()
         if map not in ("known", "rbpf"):
             raise SearchError(f"map must be 'known' (the scenario's map: known) or 'rbpf' (estimated by "
@@ -130,16 +139,23 @@ class LatticeReciprocityStrategy(Strategy):
             raise SearchError(f"n_particles must be a whole number >= 10; got {n_particles!r}")
         if isinstance(support, bool) or not isinstance(support, (int, float)) or not 0 < support < 1:
             raise SearchError(f"support must be a probability in (0, 1); got {support!r}")
-        if green not in ("estimated", "complete"):
-            raise SearchError(f"green must be 'estimated' (the RBPF's map weights the lattice) or 'complete' "
-                              f"(the complete lattice's Green's function); got {green!r}")
+        if green not in ("estimated", "complete", "sampled"):
+            raise SearchError(f"green must be 'estimated' (the RBPF's map weights the lattice), 'sampled' "
+                              f"(maps drawn from it) or 'complete'; got {green!r}")
+        if isinstance(n_maps, bool) or not isinstance(n_maps, (int, np.integer)) or n_maps < 1:
+            raise SearchError(f"n_maps must be a positive whole number; got {n_maps!r}")
+        if unseen not in ("rbpf", "nominal"):
+            raise SearchError(f"unseen must be 'rbpf' (the RBPF's prior 1/2) or 'nominal' (1 - p of the "
+                              f"world's nominal p); got {unseen!r}")
+        self.n_maps, self.unseen_links = int(n_maps), unseen
         self.map, self.rule, self.slip = map, rule, None if slip is None else float(slip)
         self.green_kind = green
         self.n_particles, self.support = int(n_particles), float(support)
 
     def params(self) -> dict:
         return dict(map=self.map, rule=self.rule, strength=self.strength, eta0=self.eta0, theta0=self.theta0,
-                    slip=self.slip, n_particles=self.n_particles, support=self.support, green=self.green_kind)
+                    slip=self.slip, n_particles=self.n_particles, support=self.support, green=self.green_kind,
+                    n_maps=self.n_maps, unseen=self.unseen_links)
 
     # -- start ------------------------------------------------------------------------
     def start(self, ctx: SearchContext) -> None:
@@ -173,6 +189,13 @@ class LatticeReciprocityStrategy(Strategy):
         self._second = self.space.second_link_of
         self.cand = self.space.transient.copy()            # prior: uniform over the nodes inside R0
         self.history: list[tuple[np.ndarray, np.ndarray, float]] = []   # (nodes, probs, count)
+        self.maps = []
+        self.unseen = None
+        if self.belief is not None and self.unseen_links == "nominal":
+            self.unseen = 1.0 - float(nom.get("p") or 0.0)
+        if self.belief is not None and self.green_kind == "sampled":
+            self._u = self.rng.random((self.n_maps, len(self.space.links)))
+            self._sample_maps()
         self.not_here = np.zeros(n)                        # Σ log(1 − p_k(x))
         self.pose = np.asarray(ctx.start[:2], dtype=float).copy()
         self.control = 0
@@ -219,16 +242,16 @@ class LatticeReciprocityStrategy(Strategy):
         self.pos = post / post.sum()
 
     # -- source posterior ---------------------------------------------------------------
-    def _fbar(self, nodes, probs) -> np.ndarray:
-        return np.maximum(self.green.visits(nodes) @ probs, COUNT_FLOOR)
+    def _fbar(self, nodes, probs, green=None) -> np.ndarray:
+        return np.maximum((self.green if green is None else green).visits(nodes) @ probs, COUNT_FLOOR)
 
-    def _posterior(self) -> None:
-        """log posterior over source nodes from the whole history (recomputed: the map
-        estimate may have changed)."""
+    def _loglik(self, green) -> tuple[np.ndarray, np.ndarray]:
+        """log-likelihood of the count history for every source node under `green`
+        (-inf where `green` admits no source), and ``S(x) = Σ_k F̄_k(x)``."""
         n = len(self.space.points)
         counts = np.array([h[2] for h in self.history])
         if self.history:
-            fb = np.column_stack([self._fbar(h[0], h[1]) for h in self.history])     # (n, k)
+            fb = np.column_stack([self._fbar(h[0], h[1], green) for h in self.history])     # (n, k)
         else:
             fb = np.ones((n, 0))
         s = fb.sum(axis=1)
@@ -238,12 +261,36 @@ class LatticeReciprocityStrategy(Strategy):
             loglik = loglik - self.strength * s
         else:
             loglik = loglik - (self.eta0 + ncount) * np.log(s + 1.0 / self.theta0)
-        self.S, self.N = s, ncount
-        lp = np.where(self.cand & self.green.candidates, loglik + self.not_here, -np.inf)
+        self.N = ncount
+        return np.where(green.candidates, loglik, -np.inf), s
+
+    def _posterior(self) -> None:
+        """log posterior over source nodes from the whole history (recomputed: the map
+        estimate may have changed); with sampled maps, the likelihood averaged over them."""
+        loglik, self.S = self._loglik(self.green)
+        if getattr(self, "maps", None):
+            ll = np.array([self._loglik(g)[0] for g in self.maps])
+            with np.errstate(invalid="ignore"):
+                loglik = logsumexp(ll, axis=0) - np.log(len(self.maps))
+        lp = np.where(self.cand & np.isfinite(loglik), loglik + self.not_here, -np.inf)
         if not np.isfinite(lp).any():
             lp = np.where(self.cand, 0.0, -np.inf)
         self.logpost = lp - logsumexp(lp)
         self.post = np.exp(self.logpost)
+
+    def _sample_maps(self) -> None:
+        """``green="sampled"``: K maps drawn link by link from the RBPF's link
+        probabilities (links it has not seen: ``1 − p`` of the nominal world), with common
+        random numbers from step to step."""
+        q = self._links_unseen(self._links_believed())
+        self.maps = [LatticeGreen(self.space, (u < q).astype(float)) for u in self._u]
+
+    def _links_unseen(self, q: np.ndarray) -> np.ndarray:
+        """`q` with the links the RBPF has not seen (still at its prior 1/2) set to
+        `self.unseen`."""
+        if self.unseen is None:
+            return q
+        return np.where(np.abs(q - 0.5) < 1e-3, self.unseen, q)
 
     # -- control ----------------------------------------------------------------------
     def _here(self) -> int:
@@ -343,8 +390,10 @@ class LatticeReciprocityStrategy(Strategy):
             self.n_samples += 1
             self.pose = np.asarray(o.position, dtype=float).copy()
         self.n_measurements += len(observations)
-        if self.belief is not None and self.green_kind == "estimated":
-            self.green = LatticeGreen(self.space, self._links_believed())
+        if self.belief is not None and self.green_kind in ("estimated", "sampled"):
+            self.green = LatticeGreen(self.space, self._links_unseen(self._links_believed()))
+        if self.belief is not None and self.green_kind == "sampled":
+            self._sample_maps()
         self._posterior()
         est = self.space.points[int(np.argmax(self.post))]
         order = np.sort(self.post)[::-1]

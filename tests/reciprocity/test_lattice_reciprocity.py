@@ -147,17 +147,44 @@ def test_episode_through_api_contract_and_success_definition():
     assert s["reached"] == (s["stop"] == "found")
 
 
-def test_map_rbpf_mode_runs_with_a_small_filter():
-    s = run("ristic-lattice", "lattice-reciprocity", seed=2, params={"map": "rbpf", "n_particles": 200},
+@pytest.mark.parametrize("params", [{}, {"green": "complete"}, {"green": "sampled", "n_maps": 3, "unseen": "nominal"}])
+def test_map_rbpf_mode_runs_with_a_small_filter(params):
+    s = run("ristic-lattice", "lattice-reciprocity", seed=2, params={"map": "rbpf", "n_particles": 200, **params},
             world={"source": [2, -5]}).summary
     assert set(SUMMARY_KEYS) <= set(s) and s["success"] == (s["reached"] and s["self_localised"])
+
+
+def test_sampled_maps_follow_the_rbpf_links_and_unseen_prior():
+    w = _world(1, map="unknown")
+    s = _strategy(w, map="rbpf", n_particles=100, green="sampled", n_maps=3, unseen="nominal")
+    _walk_to(w, s, [int(w.space.index_of([5, -4])[0])], np.random.default_rng(0))
+    assert len(s.maps) == 3
+    q = s._links_believed()
+    seen = np.abs(q - 0.5) >= 1e-3
+    assert seen.sum() >= 4
+    # the drawn link frequency is q where seen and 1 - p (0.65) where unseen, within 4.5 binomial sigmas
+    u = np.random.default_rng(5).random((400, len(q)))
+    drawn = (u < s._links_unseen(q)).mean(axis=0)
+    target = np.clip(np.where(seen, q, 0.65), 0, 1)
+    assert np.all(np.abs(drawn - target) <= 4.5 * np.sqrt(target * (1 - target) / 400) + 1e-6)
+    assert abs(drawn[~seen].mean() - 0.65) < 0.02       # 1 - p, not the RBPF prior 1/2
+
+
+def test_rbpf_path_planner_runs_and_is_validated():
+    s = run("ristic-lattice", "rbpf", seed=1, params={"n_particles": 200, "n_gain": 20, "planner": "path"}).summary
+    assert s["params"]["planner"] == "path" if isinstance(s.get("params"), dict) else True
+    assert 1 <= s["steps"] <= 100
+    with pytest.raises(SearchError, match="planner must be") as exc:
+        run("ristic-lattice", "rbpf", seed=0, params={"planner": "astar"})
+    assert "\n" not in str(exc.value)
 
 
 @pytest.mark.parametrize("params, match", [
     ({"map": "maybe"}, "map must be"), ({"rule": "greedy"}, "rule must be"),
     ({"strength": -1.0}, "strength must be"), ({"eta0": 0}, "eta0 must be"),
     ({"slip": 1.5}, "slip must be"), ({"n_particles": 5}, "n_particles"),
-    ({"green": "dense"}, "green must be"), ({"support": 0}, "support must be")])
+    ({"green": "dense"}, "green must be"), ({"support": 0}, "support must be"),
+    ({"n_maps": 0}, "n_maps must be"), ({"unseen": "half"}, "unseen must be")])
 def test_bad_strategy_parameters_are_one_line_errors(params, match):
     with pytest.raises(SearchError, match=match) as exc:
         run("ristic-lattice", "lattice-reciprocity", seed=0, params=params, world={"map": "known"})
