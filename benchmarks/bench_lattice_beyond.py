@@ -4,6 +4,8 @@ Reads the results of the two campaigns (run them first, resumable)::
 
     nice python -m reciprocity.cli campaign benchmarks/lattice_beyond.yaml --out runs/lattice_beyond --workers 1
     nice python -m reciprocity.cli campaign benchmarks/lattice_beyond_rbpfmap.yaml --out runs/lattice_beyond_rbpfmap --workers 1
+    nice python -m reciprocity.cli campaign benchmarks/lattice_beyond_more.yaml --out runs/lattice_beyond_more --workers 1
+    nice python -m reciprocity.cli campaign benchmarks/lattice_beyond_mode.yaml --out runs/lattice_beyond_mode --workers 1
     python benchmarks/bench_lattice_beyond.py [--runs runs] [--timing 5]
 
 and prints, per variant: runs n, the paper's success (reached the source within 100
@@ -46,6 +48,12 @@ def mean_ci(x) -> tuple[float, float, float]:
     return (m, m - t * se, m + t * se)
 
 
+#: Labels of the variants of lattice_beyond_more.yaml (no grid, so the campaign labels
+#: them by the strategy's name alone).
+MORE = {"rbpf": "rbpf[planner=path]",
+        "lattice-reciprocity": "lattice-reciprocity[map=rbpf,green=sampled,unseen=nominal]"}
+
+
 def load(root: Path):
     con = duckdb.connect()
     files = [str(p) for p in sorted(root.glob("lattice_beyond*/**/*.parquet"))]
@@ -55,7 +63,9 @@ def load(root: Path):
                    f"FROM read_parquet({files!r}, union_by_name=true)").fetchall()
     out = {}
     for camp, var, i, succ, reach, loc, steps, slips in rows:
-        name = var if camp == "lattice-beyond" else var.replace("[", "[map=rbpf,")
+        name = {"lattice-beyond": var, "lattice-beyond-rbpfmap": var.replace("[", "[map=rbpf,"),
+                "lattice-beyond-more": MORE.get(var, var + "[more]"),
+                "lattice-beyond-mode": var.replace("[", "[rule=path+mode,")}.get(camp, f"{camp}:{var}")
         out.setdefault(name, {})[int(i)] = (bool(succ), bool(reach), bool(loc), int(steps), int(slips or 0))
     return out
 
@@ -71,23 +81,29 @@ def table(res) -> None:
         m, mlo, mhi = mean_ci(r[r[:, 0] == 1, 3])
         print(f"| {name} | {n} | {100 * k / n:.0f} [{100 * lo:.0f}, {100 * hi:.0f}] | "
               f"{100 * kr / n:.0f} [{100 * rlo:.0f}, {100 * rhi:.0f}] | {m:.1f} [{mlo:.1f}, {mhi:.1f}] |")
-    if "rbpf" not in res:
-        return
-    print("\nPaired against rbpf on the common seed indices (same lattice, source, start):")
-    base = res["rbpf"]
-    for name in sorted(res):
-        if name == "rbpf":
-            continue
-        common = sorted(set(base) & set(res[name]))
-        a = np.array([res[name][i] for i in common])
-        b = np.array([base[i] for i in common])
-        both = (a[:, 0] == 1) & (b[:, 0] == 1)
-        d, dlo, dhi = mean_ci(a[both, 3] - b[both, 3])
-        only_a, only_b = int(((a[:, 0] == 1) & (b[:, 0] == 0)).sum()), int(((a[:, 0] == 0) & (b[:, 0] == 1)).sum())
-        p = stats.binomtest(only_a, only_a + only_b).pvalue if only_a + only_b else 1.0
-        print(f"  {name}: n = {len(common)}; success only it {only_a}, only rbpf {only_b} (McNemar exact p = "
-              f"{p:.2g}); steps minus rbpf's where both succeeded ({int(both.sum())}): {d:+.1f} "
-              f"[{dlo:+.1f}, {dhi:+.1f}]")
+    pairs = [(name, "rbpf") for name in sorted(res) if name != "rbpf"]
+    pairs += [("lattice-reciprocity[map=rbpf,green=estimated]", "lattice-reciprocity[map=rbpf,green=complete]"),
+              ("rbpf[planner=path]", "rbpf"),
+              ("lattice-reciprocity[rule=path+mode,strength=null]", "lattice-reciprocity[strength=null]"),
+              ("lattice-reciprocity[rule=path+mode,strength=12.0]", "lattice-reciprocity[strength=12.0]")]
+    print("\nPaired on the common seed indices (same lattice, source, start, noise seed):")
+    for a, b in pairs:
+        if a in res and b in res:
+            paired(res, a, b)
+
+
+def paired(res, name: str, ref: str) -> None:
+    """Success discordance (exact McNemar) and steps difference where both succeeded."""
+    common = sorted(set(res[ref]) & set(res[name]))
+    a = np.array([res[name][i] for i in common])
+    b = np.array([res[ref][i] for i in common])
+    both = (a[:, 0] == 1) & (b[:, 0] == 1)
+    d, dlo, dhi = mean_ci(a[both, 3] - b[both, 3])
+    only_a, only_b = int(((a[:, 0] == 1) & (b[:, 0] == 0)).sum()), int(((a[:, 0] == 0) & (b[:, 0] == 1)).sum())
+    p = stats.binomtest(only_a, only_a + only_b).pvalue if only_a + only_b else 1.0
+    print(f"  {name} vs {ref}: n = {len(common)}; success only the first {only_a}, only the second {only_b} "
+          f"(McNemar exact p = {p:.2g}); steps difference where both succeeded ({int(both.sum())}): "
+          f"{d:+.1f} [{dlo:+.1f}, {dhi:+.1f}]")
 
 
 def timing(k: int) -> None:
@@ -96,7 +112,10 @@ def timing(k: int) -> None:
                 ("lattice-reciprocity[strength=12.0]", "lattice-reciprocity", {"strength": 12.0}),
                 ("lattice-reciprocity[map=rbpf,green=estimated]", "lattice-reciprocity", {"map": "rbpf"}),
                 ("lattice-reciprocity[map=rbpf,green=complete]", "lattice-reciprocity",
-                 {"map": "rbpf", "green": "complete"})]
+                 {"map": "rbpf", "green": "complete"}),
+                ("rbpf[planner=path]", "rbpf", {"planner": "path"}),
+                ("lattice-reciprocity[map=rbpf,green=sampled,unseen=nominal]", "lattice-reciprocity",
+                 {"map": "rbpf", "green": "sampled", "unseen": "nominal"})]
     print(f"\nCPU time ({k} episodes each, this process, time.process_time):")
     for label, strat, params in variants:
         t0, steps = time.process_time(), 0
