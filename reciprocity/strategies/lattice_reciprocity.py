@@ -62,10 +62,11 @@ class LatticeReciprocityStrategy(Strategy):
 
     Parameters
     ----------
-    map : {"known", "rbpf"}
+    map : {"auto", "known", "rbpf"}
         ``"known"``: the scenario must tell the map (``map: known``); ``"rbpf"``: the map
         is estimated by the RBPF (the paper's filter) and its link probabilities weight
-        the Green's function.
+        the Green's function; ``"auto"`` (default): ``"known"`` when the scenario tells
+        the map, else ``"rbpf"``.
     rule : {"path", "path+mode", "infotaxis"}
         Next move. ``"path"`` (default): the admissible control minimising the
         posterior-expected shortest-path distance to the source (ties: the infotaxis
@@ -123,14 +124,14 @@ class LatticeReciprocityStrategy(Strategy):
     worlds = ("lattice",)
     agents = 1
 
-    def __init__(self, *, map: str = "known", rule: str = "path", strength: float | None = None,
+    def __init__(self, *, map: str = "auto", rule: str = "path", strength: float | None = None,
                  eta0: float = 15.0, theta0: float = 1.0, slip: float | None = None,
                  n_particles: int = 4000, support: float = SUPPORT, green: str = "estimated",
                  n_maps: int = 16, unseen: str = "rbpf"):
         super().__init__()
-        if map not in ("known", "rbpf"):
-            raise SearchError(f"map must be 'known' (the scenario's map: known) or 'rbpf' (estimated by "
-                              f"the RBPF); got {map!r}")
+        if map not in ("auto", "known", "rbpf"):
+            raise SearchError(f"map must be 'known' (the scenario's map: known), 'rbpf' (estimated by "
+                              f"the RBPF) or 'auto'; got {map!r}")
         if rule not in ("infotaxis", "path", "path+mode"):
             raise SearchError(f"rule must be 'path', 'path+mode' or 'infotaxis'; got {rule!r}")
         self.strength = _positive("strength", strength, allow_none=True)
@@ -173,7 +174,8 @@ class LatticeReciprocityStrategy(Strategy):
         self.secondary = tuple(nom.get("secondary", (0.8, 0.1)))
         n = len(self.space.points)
         start = int(self.space.index_of(ctx.start[:2])[0])
-        if self.map == "known":
+        self.mode = self.map if self.map != "auto" else ("known" if nom.get("links") is not None else "rbpf")
+        if self.mode == "known":
             if nom.get("links") is None:
                 raise SearchError("lattice-reciprocity with map: known needs the scenario's world to say "
                                   "map: known (or use map: rbpf)")

@@ -214,10 +214,12 @@ def test_bad_strategy_parameters_are_one_line_errors(params, match):
 
 def test_known_map_needs_the_world_to_tell_it_and_map_values_are_checked():
     with pytest.raises(SearchError, match="map: known") as exc:
-        run("ristic-lattice", "lattice-reciprocity", seed=0, world={"connectivity": "nodes"})
+        run("ristic-lattice", "lattice-reciprocity", seed=0, params={"map": "known"}, world={"connectivity": "nodes"})
     assert "\n" not in str(exc.value)
     with pytest.raises(SearchError, match="map must be 'unknown'"):
         run("ristic-lattice", "rbpf", seed=0, world={"map": "yes", "connectivity": "nodes"})
     assert "links" not in _world(1, map="unknown").nominal()
+    w = _world(1, map="unknown")
+    assert _strategy(w, n_particles=20).mode == "rbpf" and _strategy(_world(1)).mode == "known"   # map: auto
     nom = _world(1).nominal()
     assert "source" not in nom and nom["links"].dtype == bool and not nom["links"].all()
