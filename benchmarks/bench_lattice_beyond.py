@@ -100,9 +100,11 @@ def paired(res, name: str, ref: str) -> None:
     d, dlo, dhi = mean_ci(a[both, 3] - b[both, 3])
     only_a, only_b = int(((a[:, 0] == 1) & (b[:, 0] == 0)).sum()), int(((a[:, 0] == 0) & (b[:, 0] == 1)).sum())
     p = stats.binomtest(only_a, only_a + only_b).pvalue if only_a + only_b else 1.0
+    ra, rb = int(((a[:, 1] == 1) & (b[:, 1] == 0)).sum()), int(((a[:, 1] == 0) & (b[:, 1] == 1)).sum())
+    pr = stats.binomtest(ra, ra + rb).pvalue if ra + rb else 1.0
     print(f"  {name} vs {ref}: n = {len(common)}; success only the first {only_a}, only the second {only_b} "
-          f"(McNemar exact p = {p:.2g}); steps difference where both succeeded ({int(both.sum())}): "
-          f"{d:+.1f} [{dlo:+.1f}, {dhi:+.1f}]")
+          f"(McNemar exact p = {p:.2g}); reached only the first {ra}, only the second {rb} (p = {pr:.2g}); "
+          f"steps difference where both succeeded ({int(both.sum())}): {d:+.1f} [{dlo:+.1f}, {dhi:+.1f}]")
 
 
 def timing(k: int) -> None:
