@@ -136,6 +136,9 @@ class LatticeReciprocityStrategy(Strategy):
       11 of the 40 reaches (6 of 30 with the complete lattice); steps -3.8 [-13.2, 5.6]
       where both succeeded; estimated vs ``rbpf``: 18 vs 4 (p = 0.0043), steps +1.4
       [-15.6, 18.3] where both succeeded (11 runs);
+    * CPU per step (``time.process_time``, loaded machine): 7.3 ms with the map known;
+      32 ms with ``map="rbpf"`` (N = 4000, green refactorised every step), 29 ms with
+      ``green="complete"``; ``rbpf`` 8.7 ms;
     * the model's p_e set to 0 while the truth slips at 0.04 (map known, 10 runs,
       indicative): 5/10 reached against 10/10 with the right p_e: the position filter
       matters once the model is wrong about the motion.
@@ -277,7 +280,13 @@ class LatticeReciprocityStrategy(Strategy):
         n = len(self.space.points)
         counts = np.array([h[2] for h in self.history])
         if self.history:
-            fb = np.column_stack([self._fbar(h[0], h[1], green) for h in self.history])     # (n, k)
+            if green is self.green:                        # cache: one F̄ per reading under this model
+                if getattr(self, "_fb_green", None) is not green:
+                    self._fb_green, self._fb = green, []
+                self._fb += [self._fbar(h[0], h[1], green) for h in self.history[len(self._fb):]]
+                fb = np.column_stack(self._fb)
+            else:
+                fb = np.column_stack([self._fbar(h[0], h[1], green) for h in self.history])     # (n, k)
         else:
             fb = np.ones((n, 0))
         s = fb.sum(axis=1)
@@ -338,8 +347,10 @@ class LatticeReciprocityStrategy(Strategy):
 
     def _links_believed(self) -> np.ndarray:
         """The RBPF's posterior link probabilities, summed in float64 (float32 sums of
-        4000 equal weights land below 1/2)."""
-        return self.belief.w @ self.belief.q.astype(float)
+        4000 equal weights land below 1/2); cached until the next observation."""
+        if getattr(self, "_qb", None) is None:
+            self._qb = self.belief.w @ self.belief.q.astype(float)
+        return self._qb
 
     def _next_node(self, k: int) -> int:
         s = self._here()
@@ -409,6 +420,7 @@ class LatticeReciprocityStrategy(Strategy):
             else:
                 self.belief.predict(self.control)
                 self.belief.update(o)
+                self._qb = None
                 self.pos = self.belief.node_weights()
             nodes = np.flatnonzero(self.pos > 0)
             order = np.argsort(self.pos[nodes])[::-1]
