@@ -83,6 +83,8 @@ def table(res) -> None:
               f"{100 * kr / n:.0f} [{100 * rlo:.0f}, {100 * rhi:.0f}] | {m:.1f} [{mlo:.1f}, {mhi:.1f}] |")
     pairs = [(name, "rbpf") for name in sorted(res) if name != "rbpf"]
     pairs += [("lattice-reciprocity[map=rbpf,green=estimated]", "lattice-reciprocity[map=rbpf,green=complete]"),
+              ("lattice-reciprocity[map=rbpf,green=sampled,unseen=nominal]",
+               "lattice-reciprocity[map=rbpf,green=estimated]"),
               ("lattice-reciprocity[rule=path+mode,strength=null]", "lattice-reciprocity[strength=null]"),
               ("lattice-reciprocity[rule=path+mode,strength=12.0]", "lattice-reciprocity[strength=12.0]")]
     print("\nPaired on the common seed indices (same lattice, source, start, noise seed):")
