@@ -223,3 +223,13 @@ def test_known_map_needs_the_world_to_tell_it_and_map_values_are_checked():
     assert _strategy(w, n_particles=20).mode == "rbpf" and _strategy(_world(1)).mode == "known"   # map: auto
     nom = _world(1).nominal()
     assert "source" not in nom and nom["links"].dtype == bool and not nom["links"].all()
+
+
+def test_posterior_figure_draws(tmp_path):
+    from reciprocity.viz.lattice import posterior_figure
+    w = _world(1)
+    s = _strategy(w)
+    path = _walk_to(w, s, [int(w.space.index_of([4, 0])[0])], np.random.default_rng(0))
+    fig = posterior_figure(w, s, w.space.points[path])
+    fig.savefig(tmp_path / "post.png")
+    assert (tmp_path / "post.png").stat().st_size > 1000 and len(fig.axes) == 2
