@@ -104,7 +104,7 @@ def posterior_figure(world, strategy, path=None):
     fig, ax = plt.subplots(figsize=(5.6, 5.2))
     draw_links(ax, sp, color="0.6", lw=0.6)
     post = np.asarray(strategy.post)
-    sc = ax.scatter(sp.points[:, 0], sp.points[:, 1], c=np.log10(np.maximum(post, 1e-6)), s=60, marker="s",
+    sc = ax.scatter(sp.points[:, 0], sp.points[:, 1], c=np.log10(np.maximum(post, 1e-6)), s=28, marker="s",
                     cmap="viridis", vmin=-6, vmax=0)
     if path is not None:
         p = np.asarray(path)
