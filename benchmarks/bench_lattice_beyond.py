@@ -19,7 +19,6 @@ episodes of each variant in this process and prints CPU seconds per episode and 
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
