@@ -92,3 +92,81 @@ class LogConcentrationModel(Model):
         s = np.asarray(sources, dtype=float)[None, :, :]
         a = np.asarray(at, dtype=float)[:, None, :]
         return self.strength * log_gain(a, s, self.radius, min_distance=self.min_distance)
+
+
+class LatticeGreen:
+    """The discrete Green's function of a (possibly weighted) lattice, a strategy's model.
+
+    The tracer's random walk of Sec. 2.2 steps from a node along one of its links with
+    probability ``w_l / d_i`` (``w_l`` the link's conductance, 1 for an existing link and
+    0 for a missing one; ``d_i = Σ w`` over the node's links, those to the absorbing ring
+    included). With ``Q = D⁻¹ W`` on the transient nodes, ``I − Q = D⁻¹ L`` where
+    ``L = D − W_tt`` is symmetric, so ``F = (I − Q)⁻¹ = L⁻¹ D`` and
+
+        F[x, z] = d_z · G[x, z],   G = L⁻¹ = Gᵀ,   hence   d_x F[x, z] = d_z F[z, x].
+
+    This is reciprocity on the lattice: the mean count at the searcher's node z for a
+    source at any x, ``A · F[x, z]``, is column z of F, i.e. ONE sparse solve
+    ``L g = e_z`` (the discrete adjoint) gives the likelihood over every candidate source.
+    The factorisation of ``L`` is done once (sparse LU), each column is one solve, cached.
+
+    Parameters
+    ----------
+    space : LatticeSpace
+        The lattice geometry (nodes, potential links).
+    conductance : array_like, shape (L,), optional
+        Weight of each potential link: the model's map (1 present, 0 missing; default
+        ``space.present``), or link probabilities (the RBPF's map estimate).
+
+    Notes
+    -----
+    Transient nodes whose cluster of positive-weight links never reaches the absorbing
+    ring (closed clusters, isolated nodes) would make ``L`` singular; they are left out:
+    no source there is considered (``candidates`` is False) and a count there is 0 for a
+    source elsewhere, as in the truth (:func:`reciprocity.worlds.lattice.green_row`).
+    Absorbing nodes get ``F = 0``.
+    """
+
+    def __init__(self, space, conductance=None):
+        from scipy.sparse import coo_matrix, diags
+        from scipy.sparse.csgraph import connected_components
+        from scipy.sparse.linalg import splu
+
+        self.space = space
+        w = np.asarray(space.present if conductance is None else conductance, dtype=float).ravel()
+        if w.shape != (len(space.links),) or not np.all(np.isfinite(w)) or np.any(w < 0):
+            raise ValueError(f"conductance must be {len(space.links)} finite non-negative weights")
+        n = len(space.points)
+        a, b = space.links[w > 0].T
+        ww = w[w > 0]
+        adj = coo_matrix((np.r_[ww, ww], (np.r_[a, b], np.r_[b, a])), shape=(n, n)).tocsr()
+        self.degree = np.asarray(adj.sum(axis=1)).ravel()                 # d_i, boundary links included
+        lab = connected_components(adj, directed=False)[1]
+        open_ = np.zeros(lab.max() + 1, dtype=bool)
+        open_[lab[~space.transient]] = True
+        self.candidates = space.transient & open_[lab] & (self.degree > 0)   # where a source may sit
+        self._t = np.flatnonzero(self.candidates)
+        self._pos = -np.ones(n, dtype=np.int64)
+        self._pos[self._t] = np.arange(self._t.size)
+        lap = (diags(self.degree) - adj)[self._t][:, self._t]
+        self._lu = splu(lap.tocsc()) if self._t.size else None
+        self._cache: dict[int, np.ndarray] = {}
+
+    def visits(self, nodes) -> np.ndarray:
+        """``F[:, z]`` for each z in `nodes`: shape (n_nodes, m), the expected visits to z
+        of a walk started at every node (zero for sources outside ``candidates``)."""
+        nodes = np.atleast_1d(np.asarray(nodes, dtype=np.int64))
+        n = len(self.space.points)
+        todo = [int(z) for z in np.unique(nodes) if int(z) not in self._cache]
+        solve = [z for z in todo if self._pos[z] >= 0]
+        for z in todo:
+            self._cache[z] = np.zeros(n)
+        if solve:
+            rhs = np.zeros((self._t.size, len(solve)))
+            rhs[self._pos[solve], np.arange(len(solve))] = 1.0
+            g = self._lu.solve(rhs)
+            for j, z in enumerate(solve):
+                col = np.zeros(n)
+                col[self._t] = g[:, j] * self.degree[z]
+                self._cache[z] = col
+        return np.column_stack([self._cache[int(z)] for z in nodes])

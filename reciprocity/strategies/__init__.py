@@ -12,6 +12,7 @@ STRATEGIES: LazyRegistry = LazyRegistry({
     "random-walk": "reciprocity.strategies.random_walk:RandomWalkStrategy",
     "rbpf": "reciprocity.strategies.rbpf",
     "rbpf-infotaxis": "reciprocity.strategies.rbpf",
+    "lattice-reciprocity": "reciprocity.strategies.lattice_reciprocity",
     "infotaxis": "reciprocity.strategies.infotaxis",
     "free-energy": "reciprocity.strategies.infotaxis",
     "mapless-infotaxis": "reciprocity.strategies.infotaxis",

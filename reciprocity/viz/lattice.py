@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 
-__all__ = ["draw_links", "lattice_figure", "search_figure", "SearchSnapshot", "snapshot"]
+__all__ = ["draw_links", "lattice_figure", "search_figure", "SearchSnapshot", "snapshot", "posterior_figure"]
 
 
 def draw_links(ax, space, present=None, *, color="k", lw=1.0, alpha=1.0, missing_color=None):
@@ -92,5 +92,25 @@ def search_figure(world, snapshots, *, threshold: float = 0.6):
         ax.plot(*s.true_position, "bo", ms=7, mfc="none", mew=2)
         ax.plot(*world.source, "r*", ms=13)
         ax.set_title(f"step {s.step}: source (orange), searcher (green)", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def posterior_figure(world, strategy, path=None):
+    """The source posterior of ``lattice-reciprocity`` over the nodes (log10, the
+    discrete-adjoint likelihood), on the lattice the strategy models, with the true
+    source and `path` (n, 2), the searcher's true path."""
+    sp = world.space
+    fig, ax = plt.subplots(figsize=(5.6, 5.2))
+    draw_links(ax, sp, color="0.6", lw=0.6)
+    post = np.asarray(strategy.post)
+    sc = ax.scatter(sp.points[:, 0], sp.points[:, 1], c=np.log10(np.maximum(post, 1e-6)), s=28, marker="s",
+                    cmap="viridis", vmin=-6, vmax=0)
+    if path is not None:
+        p = np.asarray(path)
+        ax.plot(p[:, 0], p[:, 1], "-", color="tab:red", lw=1.4, alpha=0.8)
+    ax.plot(*world.source, "r*", ms=14)
+    fig.colorbar(sc, ax=ax, label="log10 posterior of the source node")
+    ax.set_title(f"lattice-reciprocity ({strategy.mode} map), {len(strategy.history)} readings", fontsize=9)
     fig.tight_layout()
     return fig

@@ -134,18 +134,23 @@ class LatticeWorld(World):
         p_e of the searcher's motion (eq. (45)); the platform's and the strategy's.
     draws : int
         Draws it took to get a connected lattice (reported by :meth:`describe`).
+    map_known : bool
+        Tell strategies which links exist (``nominal()["links"]``, the scenario's
+        ``map: known``); False (the paper): they are told only the complete lattice.
     """
 
     kind = "lattice"
     found_radius = 0.5
 
     def __init__(self, space: LatticeSpace, source, strength: float, *, primary=(1.0, 0.0),
-                 secondary=(0.8, 0.1), p: float | None = None, slip: float = 0.04, draws: int = 1):
+                 secondary=(0.8, 0.1), p: float | None = None, slip: float = 0.04, draws: int = 1,
+                 map_known: bool = False):
         self.space = space
         self.source = np.asarray(source, dtype=float).reshape(2)
         self.strength = float(strength)
         self.primary, self.secondary = tuple(map(float, primary)), tuple(map(float, secondary))
         self.p, self.slip, self.draws = p, float(slip), int(draws)
+        self.map_known = bool(map_known)
         self.source_node = int(space.index_of(self.source)[0])
         self.lam = self.strength * green_row(space, self.source_node)
         self._second = space.second_link_of
@@ -184,9 +189,12 @@ class LatticeWorld(World):
 
     def nominal(self) -> dict:
         full = LatticeSpace(self.space.radius)
-        return dict(space=full, radius=self.space.radius, primary=self.primary,
-                    secondary=self.secondary, p=self.p, slip=self.slip)
+        out = dict(space=full, radius=self.space.radius, primary=self.primary,
+                   secondary=self.secondary, p=self.p, slip=self.slip)
+        if self.map_known:
+            out["links"] = self.space.present.copy()      # the map, never the source
+        return out
 
     def describe(self) -> dict:
         return dict(strength=self.strength, missing_links=int((~self.space.present).sum()),
-                    lattice_draws=self.draws)
+                    lattice_draws=self.draws, map_known=self.map_known)

@@ -14,7 +14,7 @@ __all__ = ["LATTICE", "LATTICE_KEYS", "MIN_RADIUS"]
 
 #: Parameters of a ``lattice`` scenario.
 LATTICE_KEYS = ("radius", "p", "source", "strength", "entry", "slip", "primary", "secondary",
-                "connectivity", "lattice_seed")
+                "connectivity", "lattice_seed", "map")
 #: Smallest lattice radius accepted.
 MIN_RADIUS = 2
 
@@ -78,6 +78,11 @@ def _check(params: dict) -> dict:
         raise SearchError(f"lattice_seed must be a non-negative whole number (one lattice for every "
                           f"episode, as the paper's Fig. 2) or null (a lattice per episode); got {ls!r}")
     out["lattice_seed"] = ls
+    mp = params.get("map", "unknown")
+    if mp not in ("unknown", "known"):
+        raise SearchError(f"map must be 'unknown' (the searcher knows only the complete lattice, the "
+                          f"paper) or 'known' (it is told which links exist); got {mp!r}")
+    out["map"] = mp
     return out
 
 
@@ -91,7 +96,7 @@ def _build(params: dict, rng: np.random.Generator) -> LatticeWorld:
     present, draws = draw_links(full, params["p"], rng, connectivity=params["connectivity"], keep=tuple(keep))
     return LatticeWorld(full.with_links(present), params["source"], params["strength"],
                         primary=params["primary"], secondary=params["secondary"], p=params["p"],
-                        slip=params["slip"], draws=draws)
+                        slip=params["slip"], draws=draws, map_known=params.get("map") == "known")
 
 
 def _check_start(world: LatticeWorld, scenario) -> None:
