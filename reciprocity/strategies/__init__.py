@@ -18,6 +18,7 @@ STRATEGIES: LazyRegistry = LazyRegistry({
     "entrotaxis": "reciprocity.strategies.infotaxis",
     "space-aware-infotaxis": "reciprocity.strategies.infotaxis",
     "voi": "reciprocity.strategies.infotaxis",
+    "lookahead": "reciprocity.strategies.lookahead",
     "hmm": "reciprocity.strategies.hmm_search",
     "surge-cast": "reciprocity.strategies.hmm_search",
 })
