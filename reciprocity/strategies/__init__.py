@@ -19,6 +19,7 @@ STRATEGIES: LazyRegistry = LazyRegistry({
     "space-aware-infotaxis": "reciprocity.strategies.infotaxis",
     "voi": "reciprocity.strategies.infotaxis",
     "lookahead": "reciprocity.strategies.lookahead",
+    "arena-infotaxis": "reciprocity.strategies.arena_infotaxis",
     "hmm": "reciprocity.strategies.hmm_search",
     "surge-cast": "reciprocity.strategies.hmm_search",
 })

@@ -96,6 +96,9 @@ class Lookahead(PlumeSearch):
         Readings looked ahead.
     kappa : float
         Weight of the spread in the ``"distance"`` cost (dimensionless).
+    power : float
+        The ``"distance"`` cost's distance term is the power mean
+        ``(Σ w_i |r − x_i|^power)^(1/power)`` (length units; 1: the mean distance).
     second_kmax : int
         Largest count told apart at the second level (the rest lumped), >= 1.
     particles, resample_below, mcmc_steps, eta
@@ -104,7 +107,8 @@ class Lookahead(PlumeSearch):
 
     name = "lookahead"
 
-    def __init__(self, *, cost: str = "distance", depth: int = 1, kappa: float = 1.0, second_kmax: int = 6,
+    def __init__(self, *, cost: str = "distance", depth: int = 1, kappa: float = 1.0, power: float = 2.0,
+                 second_kmax: int = 6,
                  particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1, eta: float = 1e-3):
         if cost not in COSTS:
             raise SearchError(f"cost must be one of {', '.join(COSTS)}; got {cost!r}")
@@ -113,11 +117,12 @@ class Lookahead(PlumeSearch):
         self.cost = cost
         self.depth = depth
         self.kappa = _positive("kappa", kappa)
+        self.power = _positive("power", power)
         self.second_kmax = _positive("second_kmax", second_kmax, integer=True)
         super().__init__(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
 
     def params(self) -> dict:
-        return dict(super().params(), cost=self.cost, depth=self.depth, kappa=self.kappa,
+        return dict(super().params(), cost=self.cost, depth=self.depth, kappa=self.kappa, power=self.power,
                     second_kmax=self.second_kmax)
 
     # -- the cost of a batch of beliefs -----------------------------------------------------
@@ -146,7 +151,10 @@ class Lookahead(PlumeSearch):
             v = D + 2.0 ** (H / np.log(2.0) - 1.0) - 0.5
             return np.where(v > 0, np.log2(np.where(v > 0, v, 1.0)), v)
         dist = np.hypot(at[..., None, 0] - x[:, 0], at[..., None, 1] - x[:, 1])
-        D = (joint * dist[None]).sum(axis=-1) / Ps
+        if self.power == 1.0:
+            D = (joint * dist[None]).sum(axis=-1) / Ps
+        else:
+            D = ((joint * dist[None] ** self.power).sum(axis=-1) / Ps) ** (1.0 / self.power)
         m = np.einsum("...i,ic->...c", joint, x) / Ps[..., None]
         second = (joint * np.sum(x * x, axis=1)).sum(axis=-1) / Ps
         tr = np.maximum(second - np.sum(m * m, axis=-1), 0.0)
