@@ -82,9 +82,11 @@ def main(argv=None):
             results[label] = [done[s] for s in seeds]
     base = a.baseline or strategies[0][0]
     print(f"\n{a.scenario} world={world} seeds {seeds[0]}..{seeds[-1]} (n = {len(seeds)})")
-    print("| strategy | mean steps ± 95 % | found % | mean steps found | Δ vs " + base + " (paired) ± 95 % | Δ % | CPU s/episode |")
-    print("|---|---|---|---|---|---|---|")
+    print("| strategy | mean steps ± 95 % | found % | mean steps found | Δ vs " + base + " (paired) ± 95 % | Δ % "
+          "| Δ where both found ± 95 % | Δ % both found | median steps | CPU s/episode |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     b = np.array([r["steps"] for r in results[base]], float)
+    bok = np.array([r["success"] for r in results[base]])
     for label, rs in results.items():
         st = np.array([r["steps"] for r in rs], float)
         ok = np.array([r["success"] for r in rs])
@@ -92,8 +94,11 @@ def main(argv=None):
         d, dh = mean_ci(st - b)
         mf = st[ok].mean() if ok.any() else float("nan")
         cpu = np.mean([r["cpu"] for r in rs])
+        both = ok & bok
+        d2, d2h = mean_ci(st[both] - b[both]) if both.sum() > 1 else (float("nan"),) * 2
         print(f"| {label} | {m:.2f} ± {h:.2f} | {100 * ok.mean():.1f} | {mf:.2f} | {d:+.2f} ± {dh:.2f} | "
-              f"{100 * d / b.mean():+.1f} | {cpu:.3f} |")
+              f"{100 * d / b.mean():+.1f} | {d2:+.2f} ± {d2h:.2f} | {100 * d2 / b[both].mean():+.1f} | "
+              f"{np.median(st):.0f} | {cpu:.3f} |")
 
 
 if __name__ == "__main__":

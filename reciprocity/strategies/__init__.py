@@ -20,6 +20,7 @@ STRATEGIES: LazyRegistry = LazyRegistry({
     "voi": "reciprocity.strategies.infotaxis",
     "lookahead": "reciprocity.strategies.lookahead",
     "arena-infotaxis": "reciprocity.strategies.arena_infotaxis",
+    "plume-reciprocity": "reciprocity.strategies.plume_imaging",
     "hmm": "reciprocity.strategies.hmm_search",
     "surge-cast": "reciprocity.strategies.hmm_search",
 })

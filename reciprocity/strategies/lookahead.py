@@ -107,7 +107,7 @@ class Lookahead(PlumeSearch):
 
     name = "lookahead"
 
-    def __init__(self, *, cost: str = "distance", depth: int = 1, kappa: float = 1.0, power: float = 2.0,
+    def __init__(self, *, cost: str = "distance", depth: int = 1, kappa: float = 2.0, power: float = 3.0,
                  second_kmax: int = 6,
                  particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1, eta: float = 1e-3):
         if cost not in COSTS:
