@@ -152,3 +152,53 @@ def test_bad_arena_infotaxis_parameters(params, match):
 def test_arena_infotaxis_refuses_plume_worlds():
     with pytest.raises(SearchError, match="does not apply|applies to"):
         run("song-100", "arena-infotaxis")
+
+
+# -- the reciprocity search's imaging on the plume (cross-run b adapter) --------------------------
+def _imaging(at=(33.0, -33.0), **params):
+    sc = load_scenario("song-100")
+    nom = sc.build_world(0).nominal()
+    s = STRATEGIES["plume-reciprocity"](**params)
+    s.start(SearchContext("plume", nom, np.array([[at[0], at[1], np.pi / 2]]), np.random.default_rng(0)))
+    return s, nom
+
+
+def test_plume_imaging_is_the_poisson_posterior_on_its_lattice():
+    from scipy.stats import poisson
+    from reciprocity.observations import Observation
+    from reciprocity.worlds.plume import plume_rate
+    s, nom = _imaging()
+    r = np.array([10.0, 20.0])
+    s.observe([Observation(r, 2.0, 0.0, 1.0, "hits")], None)
+    lik = poisson.pmf(2, plume_rate(r[None], s.nodes, nom["plume"])[0] * nom["dt"])
+    lik[np.hypot(*(s.nodes - r).T) <= nom["found_radius"]] = 0.0
+    assert np.allclose(s.weights(), lik / lik.sum(), rtol=1e-9, atol=1e-15)
+
+
+def test_plume_imaging_reach_rule_picks_the_mass_within_reach_away_from_places_read():
+    s, _ = _imaging(reach=3.0)
+    # two clusters: the heavier one wins; once every point near it has been read from,
+    # the lighter one
+    w = np.full(len(s.nodes), 1e-30)
+    a = np.hypot(*(s.nodes - [-21.0, 21.0]).T) <= 4.0
+    b = np.hypot(*(s.nodes - [21.0, 21.0]).T) <= 4.0
+    w[a], w[b] = 2.0, 1.0
+    s.logp = np.log(w)
+    assert np.hypot(*(s.target() - [-21.0, 21.0])) <= 2.0
+    s.far &= np.hypot(*(s.nodes - [-21.0, 21.0]).T) >= 6.0
+    assert np.hypot(*(s.target() - [21.0, 21.0])) <= 2.0
+
+
+def test_plume_imaging_episodes_find_the_source():
+    for seed in range(3):
+        s = run("otto-2d", "plume-reciprocity", seed=seed).summary
+        assert s["stop"] == "found" and s["success"]
+    sc = replace(load_scenario("song-100"), max_steps=300)
+    s = run(sc, "plume-reciprocity", seed=0, world={"max_turn": 30}).summary
+    assert s["stop"] == "found" and s["steps"] > 90
+
+
+@pytest.mark.parametrize("params, match", [({"h": 0}, "h must"), ({"reach": -1}, "reach"), ({"d": 0}, "d must")])
+def test_bad_plume_imaging_parameters(params, match):
+    with pytest.raises(SearchError, match=match):
+        run("song-100", "plume-reciprocity", params=params)
