@@ -19,6 +19,9 @@ STRATEGIES: LazyRegistry = LazyRegistry({
     "entrotaxis": "reciprocity.strategies.infotaxis",
     "space-aware-infotaxis": "reciprocity.strategies.infotaxis",
     "voi": "reciprocity.strategies.infotaxis",
+    "lookahead": "reciprocity.strategies.lookahead",
+    "arena-infotaxis": "reciprocity.strategies.arena_infotaxis",
+    "plume-reciprocity": "reciprocity.strategies.plume_imaging",
     "hmm": "reciprocity.strategies.hmm_search",
     "surge-cast": "reciprocity.strategies.hmm_search",
 })
