@@ -20,6 +20,7 @@ STRATEGIES: LazyRegistry = LazyRegistry({
     "voi": "reciprocity.strategies.infotaxis",
     "hmm": "reciprocity.strategies.hmm_search",
     "surge-cast": "reciprocity.strategies.hmm_search",
+    "detection-infotaxis": "reciprocity.strategies.detection_infotaxis",
 })
 
 
