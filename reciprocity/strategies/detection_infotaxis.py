@@ -16,13 +16,20 @@ model; the ``filament`` world gives 0/1 detections at 10 Hz and the local wind. 
   readings of a second carry about one reading's worth of independent information;
   counting them as ten would make the posterior ten times over-confident. Periods are
   still correlated through the meander (its 20 s time constant); `temper` (≤ 1) raises
-  each period's likelihood to that power to allow for it;
+  each period's likelihood to that power to allow for it, and the log-posterior relaxes
+  toward the uniform prior with time constant `memory` (s; ``None``: never), so that
+  a long run of misses while the meander (or the slowly varying wind field) had carried
+  the plume elsewhere does not rule out its true source for good;
 * each period the vehicle chooses among `n_headings` waypoints `lookahead` m away the
   one with the least expected entropy after its reading (Vergassola et al. 2007):
   ``(1 − P_f(v)) Σ_z ρ_z(v) S_z(v)``, ``P_f(v)`` the posterior mass within `found` m of
   ``v`` (entropy 0 once there), ``ρ_z`` the predicted probability of outcome ``z``;
 * it stops when the posterior mass within `radius` m of its most likely cell reaches
-  `stop_mass` (after `min_time` s); the estimate is the posterior mean over that disc.
+  `stop_mass`, after `min_time` s, at least `min_hits` periods with a detection and with
+  the vehicle within `2 radius` of the estimate; the estimate is the posterior mean over
+  that disc. (Without the last two conditions, trial runs stopped on a few detections
+  of the plume's far end at the region's downwind edge, where the cells just upwind of
+  the vehicle explain a short burst of detections best.)
 
 Deviation from Vergassola et al.: their searcher only ends by reaching the source; ours
 declares an estimate (the ``filament`` world scores the estimate, 5 m), and moves to
@@ -76,6 +83,10 @@ class DetectionInfotaxis(_PlaneWalk):
         Exponent (0, 1] on each period's likelihood (correlated periods).
     wind_window : float
         Time constant of the measured wind's running mean, s.
+    memory : float or None
+        Time constant of the relaxation of the log-posterior toward uniform, s.
+    min_hits : int
+        Never stop before this many periods with a detection.
     min_gain : float
         When no waypoint's expected entropy drop reaches this (nats), the vehicle heads
         for the most likely cell instead (one-step infotaxis has no gradient far from
@@ -87,7 +98,8 @@ class DetectionInfotaxis(_PlaneWalk):
     def __init__(self, *, resolution: float = 1.0, period: float = 1.0, lookahead: float = 2.0,
                  n_headings: int = 8, found: float = 2.0, radius: float = 4.0, stop_mass: float = 0.7,
                  min_time: float = 60.0, temper: float = 0.5, wind_window: float = 60.0,
-                 min_gain: float = 1e-3):
+                 min_gain: float = 1e-3, min_hits: int = 5,
+                 memory: float | None = None):
         super().__init__()
         self.resolution = _positive("resolution", resolution)
         self.period = _positive("period", period)
@@ -104,13 +116,17 @@ class DetectionInfotaxis(_PlaneWalk):
         if isinstance(n_headings, bool) or not isinstance(n_headings, int) or n_headings < 2:
             raise SearchError(f"n_headings must be a whole number of at least 2; got {n_headings!r}")
         self.n_headings = n_headings
+        if isinstance(min_hits, bool) or not isinstance(min_hits, int) or min_hits < 0:
+            raise SearchError(f"min_hits must be a non-negative whole number; got {min_hits!r}")
+        self.min_hits = min_hits
+        self.memory = None if memory is None else _positive("memory", memory)
         self.model = DetectionModel()
 
     def params(self) -> dict:
         return dict(resolution=self.resolution, period=self.period, lookahead=self.lookahead,
                     n_headings=self.n_headings, found=self.found, radius=self.radius,
                     stop_mass=self.stop_mass, min_time=self.min_time, temper=self.temper,
-                    wind_window=self.wind_window, min_gain=self.min_gain)
+                    wind_window=self.wind_window, min_gain=self.min_gain, min_hits=self.min_hits, memory=self.memory)
 
     def start(self, ctx: SearchContext) -> None:
         self._start_plane(ctx)
@@ -142,6 +158,8 @@ class DetectionInfotaxis(_PlaneWalk):
         """Bayes' rule for one period's outcome read at `position` (m)."""
         p = self.model.probability(self.cells, np.asarray(position, dtype=float), self.wind.mean,
                                    self.wind.spread)
+        if self.memory is not None:
+            self.logw *= np.exp(-self.period / self.memory)
         self.logw += self.temper * np.log(p if detected else 1.0 - p)
         self.logw -= self.logw.max()
         self.n_updates += 1
@@ -215,7 +233,8 @@ class DetectionInfotaxis(_PlaneWalk):
                 mass, est = self.stop_disc()
                 self.status = Status(est, float(np.pi * self.radius ** 2),
                                      extra=dict(map_mass=mass, detections=self.n_periods_hit))
-                if mass >= self.stop_mass and self.time >= self.min_time:
+                if (mass >= self.stop_mass and self.time >= self.min_time and self.n_periods_hit >= self.min_hits
+                        and np.hypot(*(est - self.pos)) <= 2 * self.radius):
                     self.stop(StopReason.CONVERGED, f"posterior mass {mass:.2f} within {self.radius:g} m")
                     return
                 self._decide()

@@ -38,6 +38,7 @@ def test_hmm_status_reports_the_map():
     ("hmm", {"eps_d": 1.5}, "eps_d"), ("hmm", {"horizon": 0}, "horizon"),
     ("hmm", {"stop_mass": 0}, "stop_mass"), ("hmm", {"target": "moon"}, "target"),
     ("surge-cast", {"surge_time": -1}, "surge_time"), ("hmm", {"bogus": 1}, "bogus"),
+    ("hmm", {"target": "verify", "approach": 1.0}, "approach"),
 ])
 def test_bad_parameters_are_one_line(strategy, params, words):
     with pytest.raises(SearchError) as e:
@@ -56,3 +57,29 @@ def test_a_300_s_search_takes_under_10_s():
     t0 = time.perf_counter()
     s = run("farrell", "hmm", seed=0, world={"start": [95.0, -45.0]}, params={"stop_mass": 0.99}).summary
     assert s["steps"] == 3000 and time.perf_counter() - t0 < 10.0
+
+
+def test_verify_heads_for_the_peak_and_stops_only_there():
+    from reciprocity.strategies.hmm_search import HMMSearch
+    from reciprocity.strategies.base import SearchContext
+    from reciprocity.observations import Observation
+    s = HMMSearch(target="verify", min_time=1.0, stop_mass=0.3)
+    nominal = dict(region=(0.0, 100.0, -50.0, 50.0), cells=(40, 25), sampling_rate=10.0, speed=1.0)
+    s.start(SearchContext("filament", nominal, np.array([[80.0, 20.0, 0.0]]), np.random.default_rng(0)))
+    # a map concentrated at one cell far from the vehicle: the plan goes there, no stop
+    k = int(s.grid.index(np.array([30.0, 0.0]))[0])
+    s.belief.pi[:] = 1e-6
+    s.belief.pi[k] = 1.0
+    for i in range(10):
+        s.observe([Observation(np.array([80.0, 20.0]), 0.0, time=0.1 * i, dwell=0.1, kind="detection",
+                               data={"wind": [1.0, 0.0]})], None)
+    assert not s.done and s.goal == int(np.argmax(s.belief.pi))
+    assert np.hypot(*(s.target - [80.0, 20.0])) < 5          # one cell along the path
+    # the same map with the vehicle at its peak: it stops
+    s.belief.pi[:] = 1e-6
+    s.belief.pi[k] = 1.0
+    c = s.belief.centres[k]
+    for i in range(10):
+        s.observe([Observation(c.copy(), 0.0, time=1.0 + 0.1 * i, dwell=0.1, kind="detection",
+                               data={"wind": [1.0, 0.0]})], None)
+    assert s.done and "map mass" in s.stop_reason
