@@ -27,9 +27,13 @@ model; the ``filament`` world gives 0/1 detections at 10 Hz and the local wind. 
 * it stops when the posterior mass within `radius` m of its most likely cell reaches
   `stop_mass`, after `min_time` s, at least `min_hits` periods with a detection and with
   the vehicle within `2 radius` of the estimate; the estimate is the posterior mean over
-  that disc. (Without the last two conditions, trial runs stopped on a few detections
-  of the plume's far end at the region's downwind edge, where the cells just upwind of
-  the vehicle explain a short burst of detections best.)
+  that disc, and (``overshoot``) only once a period without detection was read upwind
+  of the estimate (0.5 to `2 radius` m upwind along the measured wind, within `radius`
+  crosswind): the vehicle has passed the source and lost the odour. (Without these
+  conditions, trial runs stopped on a few detections of the plume's far end at the
+  region's downwind edge, or in the middle of a run of detections while the vehicle
+  was still surging upwind 10 m short of the source: consecutive periods in the plume
+  are correlated, and the model's near-source peak explains a run of them best.)
 
 Deviation from Vergassola et al.: their searcher only ends by reaching the source; ours
 declares an estimate (the ``filament`` world scores the estimate, 5 m), and moves to
@@ -87,6 +91,8 @@ class DetectionInfotaxis(_PlaneWalk):
         Time constant of the relaxation of the log-posterior toward uniform, s.
     min_hits : int
         Never stop before this many periods with a detection.
+    overshoot : bool
+        Stop only after a non-detection upwind of the estimate (module doc).
     min_gain : float
         When no waypoint's expected entropy drop reaches this (nats), the vehicle heads
         for the most likely cell instead (one-step infotaxis has no gradient far from
@@ -99,7 +105,7 @@ class DetectionInfotaxis(_PlaneWalk):
                  n_headings: int = 8, found: float = 2.0, radius: float = 4.0, stop_mass: float = 0.7,
                  min_time: float = 60.0, temper: float = 0.5, wind_window: float = 60.0,
                  min_gain: float = 1e-3, min_hits: int = 5,
-                 memory: float | None = None):
+                 memory: float | None = None, overshoot: bool = True):
         super().__init__()
         self.resolution = _positive("resolution", resolution)
         self.period = _positive("period", period)
@@ -120,13 +126,16 @@ class DetectionInfotaxis(_PlaneWalk):
             raise SearchError(f"min_hits must be a non-negative whole number; got {min_hits!r}")
         self.min_hits = min_hits
         self.memory = None if memory is None else _positive("memory", memory)
+        if not isinstance(overshoot, bool):
+            raise SearchError(f"overshoot must be true or false; got {overshoot!r}")
+        self.overshoot = overshoot
         self.model = DetectionModel()
 
     def params(self) -> dict:
         return dict(resolution=self.resolution, period=self.period, lookahead=self.lookahead,
                     n_headings=self.n_headings, found=self.found, radius=self.radius,
                     stop_mass=self.stop_mass, min_time=self.min_time, temper=self.temper,
-                    wind_window=self.wind_window, min_gain=self.min_gain, min_hits=self.min_hits, memory=self.memory)
+                    wind_window=self.wind_window, min_gain=self.min_gain, min_hits=self.min_hits, memory=self.memory, overshoot=self.overshoot)
 
     def start(self, ctx: SearchContext) -> None:
         self._start_plane(ctx)
@@ -145,6 +154,7 @@ class DetectionInfotaxis(_PlaneWalk):
         self.n_updates = 0
         self.n_periods_hit = 0
         self.n_fallback = 0
+        self._misses: list = []
         self.target = self.pos.copy()
         self.headings = 2 * np.pi * np.arange(self.n_headings) / self.n_headings
 
@@ -164,6 +174,8 @@ class DetectionInfotaxis(_PlaneWalk):
         self.logw -= self.logw.max()
         self.n_updates += 1
         self.n_periods_hit += int(detected)
+        if not detected:
+            self._misses.append(np.asarray(position, dtype=float))
 
     def stop_disc(self) -> tuple[float, np.ndarray]:
         """Posterior mass within `radius` of the most likely cell, and the posterior mean
@@ -173,6 +185,16 @@ class DetectionInfotaxis(_PlaneWalk):
         inside = np.hypot(*(self.cells - peak).T) <= self.radius
         m = float(w[inside].sum())
         return m, (w[inside] @ self.cells[inside]) / max(m, 1e-300)
+
+    def overshot(self, estimate) -> bool:
+        """Whether a period without detection was read upwind of `estimate` (0.5 to
+        ``2 radius`` m along the measured wind, within `radius` crosswind)."""
+        if not self._misses:
+            return False
+        u = self.wind.mean / max(float(np.hypot(*self.wind.mean)), 1e-9)
+        rel = np.asarray(self._misses[-600:]) - np.asarray(estimate)
+        d, c = rel @ u, rel @ np.array([-u[1], u[0]])
+        return bool(np.any((d <= -0.5) & (d >= -2 * self.radius) & (np.abs(c) <= self.radius)))
 
     def scores(self, points: np.ndarray) -> np.ndarray:
         """Expected entropy after a period's reading at each of `points` (K, 2)."""
@@ -234,7 +256,8 @@ class DetectionInfotaxis(_PlaneWalk):
                 self.status = Status(est, float(np.pi * self.radius ** 2),
                                      extra=dict(map_mass=mass, detections=self.n_periods_hit))
                 if (mass >= self.stop_mass and self.time >= self.min_time and self.n_periods_hit >= self.min_hits
-                        and np.hypot(*(est - self.pos)) <= 2 * self.radius):
+                        and np.hypot(*(est - self.pos)) <= 2 * self.radius
+                        and (not self.overshoot or self.overshot(est))):
                     self.stop(StopReason.CONVERGED, f"posterior mass {mass:.2f} within {self.radius:g} m")
                     return
                 self._decide()

@@ -104,6 +104,29 @@ def test_expected_entropy_prefers_the_informative_waypoint():
     assert sc[0] < sc[1] and sc[1] == pytest.approx(np.log(2), abs=0.01)
 
 
+def test_memory_relaxes_the_belief_toward_uniform():
+    s = _started(temper=1.0, resolution=5.0, memory=10.0)
+    for _ in range(30):
+        s.wind.add([1.0, 0.0], 0.1)
+    s.update_period([60.0, 0.0], True)
+    h1 = entropy(s.weights())
+    for _ in range(100):                      # far upwind of every cell: no information
+        s.update_period([-500.0, 0.0], False)
+    assert entropy(s.weights()) > h1 and entropy(s.weights()) == pytest.approx(np.log(len(s.cells)), rel=1e-3)
+
+
+def test_overshoot_needs_a_miss_upwind_of_the_estimate():
+    s = _started(radius=4.0)
+    for _ in range(30):
+        s.wind.add([1.0, 0.0], 0.1)
+    est = np.array([30.0, 0.0])
+    s.update_period([35.0, 0.0], False)       # downwind of the estimate
+    s.update_period([27.0, 9.0], False)       # upwind but too far crosswind
+    assert not s.overshot(est)
+    s.update_period([27.0, 2.0], False)       # 3 m upwind, 2 m crosswind
+    assert s.overshot(est)
+
+
 def test_short_episode_has_the_contract_keys_and_is_reproducible():
     sc = check("farrell", "detection-infotaxis")
     sc.max_steps = 300
@@ -132,7 +155,8 @@ def test_a_start_in_the_plume_moves_upwind():
 
 @pytest.mark.parametrize("params, words", [
     ({"temper": 1.5}, "temper"), ({"stop_mass": 1.0}, "stop_mass"), ({"n_headings": 1}, "n_headings"),
-    ({"lookahead": 0}, "lookahead"), ({"bogus": 1}, "bogus"),
+    ({"lookahead": 0}, "lookahead"), ({"bogus": 1}, "bogus"), ({"memory": 0}, "memory"),
+    ({"min_hits": -1}, "min_hits"), ({"overshoot": "yes"}, "overshoot"),
 ])
 def test_bad_parameters_are_one_line(params, words):
     with pytest.raises(SearchError) as e:
