@@ -116,14 +116,18 @@ def test_memory_relaxes_the_belief_toward_uniform():
 
 
 def test_overshoot_needs_a_miss_upwind_of_the_estimate():
-    s = _started(radius=4.0)
+    s = _started(radius=4.0, overshoot=2)
     for _ in range(30):
         s.wind.add([1.0, 0.0], 0.1)
     est = np.array([30.0, 0.0])
     s.update_period([35.0, 0.0], False)       # downwind of the estimate
     s.update_period([27.0, 9.0], False)       # upwind but too far crosswind
+    s.update_period([29.5, 0.0], False)       # upwind by less than 1 m
+    s.update_period([27.0, 2.0], False)       # 3 m upwind, 2 m crosswind: the first
     assert not s.overshot(est)
-    s.update_period([27.0, 2.0], False)       # 3 m upwind, 2 m crosswind
+    s.update_period([26.0, -1.0], True)       # a detection does not count
+    assert not s.overshot(est)
+    s.update_period([25.0, -1.0], False)      # the second
     assert s.overshot(est)
 
 
@@ -156,7 +160,7 @@ def test_a_start_in_the_plume_moves_upwind():
 @pytest.mark.parametrize("params, words", [
     ({"temper": 1.5}, "temper"), ({"stop_mass": 1.0}, "stop_mass"), ({"n_headings": 1}, "n_headings"),
     ({"lookahead": 0}, "lookahead"), ({"bogus": 1}, "bogus"), ({"memory": 0}, "memory"),
-    ({"min_hits": -1}, "min_hits"), ({"overshoot": "yes"}, "overshoot"),
+    ({"min_hits": -1}, "min_hits"), ({"overshoot": -1}, "overshoot"),
 ])
 def test_bad_parameters_are_one_line(params, words):
     with pytest.raises(SearchError) as e:
