@@ -83,3 +83,18 @@ def test_verify_heads_for_the_peak_and_stops_only_there():
         s.observe([Observation(c.copy(), 0.0, time=1.0 + 0.1 * i, dwell=0.1, kind="detection",
                                data={"wind": [1.0, 0.0]})], None)
     assert s.done and "map mass" in s.stop_reason
+
+
+def test_farrell_table_compares_the_planners_on_the_same_starts():
+    from reciprocity.campaign.tables.farrell2003 import FARRELL_HMM, FARRELL_VARIANTS
+    spec = FARRELL_HMM.spec(3)
+    assert tuple(v.label for v in spec.variants) == FARRELL_VARIANTS
+    assert {v.strategy for v in spec.variants} == {"hmm", "surge-cast", "detection-infotaxis"}
+    tasks = list(spec.tasks())
+    assert len(tasks) == 3 * len(FARRELL_VARIANTS)
+    # one episode seed per seed index, shared by every variant (the same start)
+    by_index = {}
+    for t in tasks:
+        by_index.setdefault(t.seed_index, set()).add(t.seed)
+    assert all(len(s) == 1 for s in by_index.values()) and len(by_index) == 3
+    assert {pv.variant for pv in FARRELL_HMM.paper} == set(FARRELL_VARIANTS)
