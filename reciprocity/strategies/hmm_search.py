@@ -15,7 +15,8 @@ moths' surge/cast for comparison.
     speed. It stops when the map's mass within `radius` of its peak reaches
     `stop_mass` (after at least `min_time`); the estimate is the π̂-weighted centre
     there. ``target="peak"`` goes to the map's most likely cells instead (a baseline).
-    ``target="verify"`` bisects until the map's mass near its peak reaches
+    ``target="verify"`` bisects (each cell's value divided by one plus the periods
+    already spent in it) until the map's mass near its peak reaches
     ``approach × stop_mass``, then goes straight to the peak cell, and stops only with
     the vehicle within `radius` of the estimate (it has gone to check the map's answer;
     ``bisect`` stopped wherever it was, and 9 of its 50 stops were wrong).
@@ -150,6 +151,7 @@ class HMMSearch(_PlaneWalk):
         self.goal = -1
         self.path = np.array([], dtype=int)
         self._ij = np.c_[self.grid.ij(np.arange(self.grid.N))]
+        self.visits = np.zeros(self.grid.N)                 # periods spent in each cell
 
     # -- planning ------------------------------------------------------------------------
     def split(self, cells: np.ndarray) -> np.ndarray:
@@ -187,6 +189,11 @@ class HMMSearch(_PlaneWalk):
         cells = np.flatnonzero(ok)
         value = self.split(cells) if self.target_rule != "peak" else self.belief.weights()[cells]
         score = value / (np.hypot(*rel[cells].T) + self.radius)
+        if self.target_rule == "verify":
+            # cells the vehicle has spent periods in are worth less: without this the
+            # bisection value, flat where the map is flat, sent the vehicle back and
+            # forth between two neighbouring cells for minutes
+            score = score / (1.0 + self.visits[cells])
         best = int(cells[int(np.argmax(score))])
         self.path = self.belief.mldp(j, int(cheb[best]), end=best)
         self.goal = best
@@ -225,6 +232,7 @@ class HMMSearch(_PlaneWalk):
             return
         # replan on a detection, on reaching the goal cell, or when off the path
         here = int(self.grid.index(self.pos)[0])
+        self.visits[here] += 1
         verify = (self.target_rule == "verify" and mass >= self.approach * self.stop_mass
                   and self.goal != int(np.argmax(b.pi)))
         if b.events[-1][2] or here == self.goal or here not in self.path or verify:

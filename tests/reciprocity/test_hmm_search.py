@@ -98,3 +98,22 @@ def test_farrell_table_compares_the_planners_on_the_same_starts():
         by_index.setdefault(t.seed_index, set()).add(t.seed)
     assert all(len(s) == 1 for s in by_index.values()) and len(by_index) == 3
     assert {pv.variant for pv in FARRELL_HMM.paper} == set(FARRELL_VARIANTS)
+
+
+
+@pytest.mark.parametrize("target", ["bisect", "verify"])
+def test_verify_discounts_cells_already_visited(target):
+    from reciprocity.strategies.hmm_search import HMMSearch
+    from reciprocity.strategies.base import SearchContext
+    from reciprocity.observations import Observation
+    s = HMMSearch(target=target)
+    nominal = dict(region=(0.0, 100.0, -50.0, 50.0), cells=(40, 25), sampling_rate=10.0, speed=1.0)
+    s.start(SearchContext("filament", nominal, np.array([[40.0, -12.0, 0.0]]), np.random.default_rng(0)))
+    for i in range(10):
+        s.observe([Observation(np.array([40.0, -12.0]), 0.0, time=0.1 * i, dwell=0.1, kind="detection",
+                               data={"wind": [1.0, 0.0]})], None)
+    s._plan(upwind=False)
+    first = s.goal
+    s.visits[first] += 50                        # the vehicle has spent 50 s there
+    s._plan(upwind=False)
+    assert (s.goal != first) == (target == "verify")
