@@ -39,6 +39,7 @@ def test_hmm_status_reports_the_map():
     ("hmm", {"stop_mass": 0}, "stop_mass"), ("hmm", {"target": "moon"}, "target"),
     ("surge-cast", {"surge_time": -1}, "surge_time"), ("hmm", {"bogus": 1}, "bogus"),
     ("hmm", {"target": "verify", "approach": 1.0}, "approach"),
+    ("hmm", {"discount_visits": 1}, "discount_visits"),
 ])
 def test_bad_parameters_are_one_line(strategy, params, words):
     with pytest.raises(SearchError) as e:
@@ -101,12 +102,12 @@ def test_farrell_table_compares_the_planners_on_the_same_starts():
 
 
 
-@pytest.mark.parametrize("target", ["bisect", "verify"])
-def test_verify_discounts_cells_already_visited(target):
+@pytest.mark.parametrize("discount", [False, True])
+def test_discount_visits_moves_the_goal_off_a_visited_cell(discount):
     from reciprocity.strategies.hmm_search import HMMSearch
     from reciprocity.strategies.base import SearchContext
     from reciprocity.observations import Observation
-    s = HMMSearch(target=target)
+    s = HMMSearch(target="verify", discount_visits=discount)
     nominal = dict(region=(0.0, 100.0, -50.0, 50.0), cells=(40, 25), sampling_rate=10.0, speed=1.0)
     s.start(SearchContext("filament", nominal, np.array([[40.0, -12.0, 0.0]]), np.random.default_rng(0)))
     for i in range(10):
@@ -116,4 +117,4 @@ def test_verify_discounts_cells_already_visited(target):
     first = s.goal
     s.visits[first] += 50                        # the vehicle has spent 50 s there
     s._plan(upwind=False)
-    assert (s.goal != first) == (target == "verify")
+    assert (s.goal != first) == discount
