@@ -118,3 +118,4 @@ def test_discount_visits_moves_the_goal_off_a_visited_cell(discount):
     s.visits[first] += 50                        # the vehicle has spent 50 s there
     s._plan(upwind=False)
     assert (s.goal != first) == discount
+

@@ -77,7 +77,7 @@ FARRELL_HMM = register(PaperTable(
     default_runs=50,
     note="The paper reports maps (its Figs. 5-8, written to DIR/figures with one track per "
          "strategy), no search statistics ('–'). Starts are uniform over the region at least "
-         "10 m from the source, drawn per seed index, the same for all three strategies; search "
+         "10 m from the source, drawn per seed index, the same for every strategy; search "
          "time in s over all runs (300 s when a run does not stop), distances in m.",
     after=figures,
 ))
