@@ -40,6 +40,13 @@ model; the ``filament`` world gives 0/1 detections at 10 Hz and the local wind. 
   the plume are correlated, and the model's near-source peak explains a run of them
   best.)
 
+Measured (``reproduce farrell-hmm``, 50 starts shared with ``hmm`` and ``surge-cast``):
+16 successes (32 %, 95 % interval 21–46 %), 16 wrong stops, 18 runs that do not stop.
+A main failure: the envelope is straight along the wind measured at the vehicle, while
+the filament world's plume curves with its large-scale wind modes; far downwind the
+vehicle climbs a curved plume and the straight model puts the source on the curve's
+tangent, 10–50 m off.
+
 Deviation from Vergassola et al.: their searcher only ends by reaching the source; ours
 declares an estimate (the ``filament`` world scores the estimate, 5 m), and moves to
 waypoints `lookahead` m away at 1 m/s rather than to neighbouring lattice cells.
