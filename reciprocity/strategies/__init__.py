@@ -24,6 +24,7 @@ STRATEGIES: LazyRegistry = LazyRegistry({
     "plume-reciprocity": "reciprocity.strategies.plume_imaging",
     "hmm": "reciprocity.strategies.hmm_search",
     "surge-cast": "reciprocity.strategies.hmm_search",
+    "detection-infotaxis": "reciprocity.strategies.detection_infotaxis",
 })
 
 

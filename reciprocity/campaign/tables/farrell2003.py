@@ -3,12 +3,16 @@ comparison the paper does not have.
 
 Set-up (papers/003; scenario ``farrell``): a filament plume over 100 m × 100 m, source
 at (20, 0), a binary detector at 10 Hz, the vehicle at 1 m/s, 300 s at most. ``hmm``
-(the source likelihood map with a one-step planner) and ``surge-cast`` start from the
-same random place on each seed index: the scenario's start is dropped
-(``random_start``), so the filament world's default start, uniform over the region at
-least 10 m from the source, is drawn from the episode seed. At least 50 starts.
-``infotaxis`` is not among them: it needs a plume world's hit-rate model, not binary
-filament detections.
+(the source likelihood map with a one-step planner), ``surge-cast`` (the moths' upwind
+surge / crosswind cast) and ``detection-infotaxis`` (infotaxis on per-second binary
+detections with a time-averaged meandering-plume model along the measured wind) start
+from the same random place on each seed index (``hmm`` twice: its default bisection
+planner and ``target="verify"``, which goes to check the map's peak before it stops):
+the scenario's start is dropped (``random_start``), so the filament world's default
+start, uniform over the region at least 10 m from the source, is drawn from the episode
+seed. At least 50 starts.
+The plume worlds' ``infotaxis`` is not among them (it needs the K0 hit-rate model);
+``detection-infotaxis`` is its counterpart for binary filament detections.
 
 The paper reports maps only (and that its one-step planner "typically" finds the source
 within 300 s): the table prints our success rate, search time (s, all runs: a run that
@@ -25,10 +29,12 @@ from pathlib import Path
 from ..reproduce import PaperTable, PaperValue, register
 from ..spec import CampaignSpec
 
-__all__ = ["FARRELL_HMM", "FARRELL_STRATEGIES", "figures"]
+__all__ = ["FARRELL_HMM", "FARRELL_STRATEGIES", "FARRELL_VARIANTS", "figures"]
 
 #: The strategies compared.
-FARRELL_STRATEGIES = ("hmm", "surge-cast")
+FARRELL_STRATEGIES = ("hmm", "surge-cast", "detection-infotaxis")
+#: Their variants in the campaign: hmm's default planner and its ``target="verify"``.
+FARRELL_VARIANTS = ("hmm[target=bisect]", "hmm[target=verify]", "surge-cast", "detection-infotaxis")
 _METRICS = ("success", "sim_time_s", "distance_at_stop", "error")
 
 
@@ -55,22 +61,23 @@ def figures(directory: Path, spec: CampaignSpec) -> list[Path]:
             break
         episode, strategy, platforms = execute_task(task)
         files.append(plot_search(episode, strategy, platforms[0].world,
-                                 out / f"track_{task.variant.label}.png"))
+                                 out / f"track_{task.variant.label.replace('[', '_').replace(']', '').replace('=', '-')}.png"))
     return files
 
 
 FARRELL_HMM = register(PaperTable(
     name="farrell-hmm",
-    title="hidden-Markov source map (hmm) vs surge-cast from random starts: success, search "
-          "time, distance to the source at the stop",
+    title="hidden-Markov source map (hmm, two planners) vs surge-cast vs detection-infotaxis "
+          "from random starts: success, search time, distance to the source at the stop",
     reference="Farrell, Pang & Li (2003), search comparison (the paper has Figs. 5-8 only)",
-    build_spec=lambda runs: {"strategies": list(FARRELL_STRATEGIES), "seeds": runs,
+    build_spec=lambda runs: {"strategies": {"hmm": {"target": ["bisect", "verify"]}, "surge-cast": {},
+                                            "detection-infotaxis": {}}, "seeds": runs,
                              "scenarios": [{"name": "farrell", "random_start": True}]},
-    paper=tuple(PaperValue(s, m, None) for s in FARRELL_STRATEGIES for m in _METRICS),
+    paper=tuple(PaperValue(s, m, None) for s in FARRELL_VARIANTS for m in _METRICS),
     default_runs=50,
     note="The paper reports maps (its Figs. 5-8, written to DIR/figures with one track per "
          "strategy), no search statistics ('–'). Starts are uniform over the region at least "
-         "10 m from the source, drawn per seed index, the same for both strategies; search "
+         "10 m from the source, drawn per seed index, the same for every strategy; search "
          "time in s over all runs (300 s when a run does not stop), distances in m.",
     after=figures,
 ))
