@@ -72,7 +72,8 @@ class GradientStrategy(Strategy):
         Stop above this reading (the paper's rule), or None for the gradient rule.
     stop_radius : float
         Gradient rule: stop when the estimated source distance is below this, cm; 0 for
-        none (only with `i_max`).
+        none (then `i_max`, where given, the stall rule and `max_steps` end the search; on
+        the car the platform supplies `i_max`).
     d : float
         Exploration separation, cm.
     delta : float
@@ -112,9 +113,9 @@ class GradientStrategy(Strategy):
                              stall_radius=stall_radius).items():
             if not np.isfinite(val) or val <= 0:
                 raise SearchError(f"{key} must be a positive number; got {val!r}")
-        if not np.isfinite(stop_radius) or stop_radius < 0 or (stop_radius == 0 and i_max is None):
-            raise SearchError(f"stop_radius must be a positive distance in cm (or 0 together with "
-                              f"i_max); got {stop_radius!r}")
+        if not np.isfinite(stop_radius) or stop_radius < 0:
+            raise SearchError(f"stop_radius must be a distance >= 0 cm (0: no radius rule); "
+                              f"got {stop_radius!r}")
         if int(stall_steps) != stall_steps or stall_steps < 0 or stall_steps == 1:
             raise SearchError(f"stall_steps must be 0 (off) or a whole number >= 2; got {stall_steps!r}")
         if int(max_steps) < 1:

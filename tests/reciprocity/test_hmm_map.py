@@ -155,6 +155,7 @@ def test_slim_update_moves_mass_upflow_of_a_detection():
         b.update(Observation((60.0, 1.0), 0.0, kind="detection"))
 
 
+@pytest.mark.benchmark
 def test_one_map_update_is_fast():
     """α/β/Ψ over 1000 cells per mapping period: ≤ 5 ms (median of 50)."""
     g = CellGrid((0, 100, -50, 50), 40, 25)

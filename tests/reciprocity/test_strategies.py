@@ -121,7 +121,7 @@ def test_gradient_ascent_stops_when_it_stalls(empty):
     with pytest.raises(r.SearchError, match="stall_steps"):
         r.GradientStrategy(stall_steps=1)
     with pytest.raises(r.SearchError, match="stop_radius"):
-        r.GradientStrategy(stop_radius=0.0)
+        r.GradientStrategy(stop_radius=-1.0)
 
 
 def test_episode_summary_and_trace_serialise(tmp_path):
