@@ -102,7 +102,7 @@ def test_gradient_ascent_stops_when_it_stalls(empty):
     the saturated disk) end the search at the strongest sample, not at the step cap."""
     from reciprocity.intents import Measure, SampleGradient
     arena, solver, truth = empty
-    s = r.GradientStrategy(h=2.0, i_max=1e6, stop_radius=0.0)
+    s = r.GradientStrategy(h=2.0, stop_radius=0.0)
     s.start(r.SearchContext("poisson", dict(arena=arena.without_scenario(), strength=arena.strength, noise=0.0),
                             np.array([[70.0, 70.0, 0.0]]), np.random.default_rng(0)))
     centre = np.array([70.0, 70.0])
@@ -118,6 +118,15 @@ def test_gradient_ascent_stops_when_it_stalls(empty):
     assert s.done and s.outcome.reason == r.StopReason.CONVERGED and "stalled" in s.outcome.detail
     assert len(s.gradients) == s.stall_steps
     assert np.allclose(s.estimate, centre + 2.0 * np.array([np.cos(2), np.sin(2)]) + [0.0, 5.0])
+    # with i_max, stalling far below it is a wall, not the source: the search goes on
+    far = r.GradientStrategy(h=2.0, stop_radius=0.0, i_max=1000.0)
+    far.start(r.SearchContext("poisson", dict(arena=arena.without_scenario(), strength=arena.strength, noise=0.0),
+                              np.array([[70.0, 70.0, 0.0]]), np.random.default_rng(0)))
+    far.gradients = list(s.gradients)
+    far._best = (100.0, centre)
+    assert not far._stalled()
+    far._best = (0.7 * 1000.0, centre)
+    assert far._stalled()
     with pytest.raises(r.SearchError, match="stall_steps"):
         r.GradientStrategy(stall_steps=1)
     with pytest.raises(r.SearchError, match="stop_radius"):
