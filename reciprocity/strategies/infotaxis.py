@@ -47,7 +47,8 @@ from . import register
 from .base import SearchContext, Status, Strategy
 
 __all__ = ["PlumeSearch", "Infotaxis", "FreeEnergyInfotaxis", "MaplessInfotaxis", "Entrotaxis",
-           "SpaceAwareInfotaxis", "VoIInfotaxis", "candidate_moves", "make_belief", "posterior_entropies"]
+           "SpaceAwareInfotaxis", "VoIInfotaxis", "candidate_moves", "make_belief", "posterior_entropies",
+           "turn_inward"]
 
 #: otto's tie tolerance between scores.
 TIE = 1e-10
@@ -62,6 +63,29 @@ def _positive(name, v, *, integer=False):
     if not ok:
         raise SearchError(f"{name} must be a positive {'whole ' if integer else ''}number; got {v!r}")
     return int(v) if integer else float(v)
+
+
+def turn_inward(nominal: dict, pos: np.ndarray, heading: float) -> float:
+    """New heading (rad) of a walker at the edge of the area facing out: one largest turn
+    (``nominal["max_turn"]``, degrees) toward the middle of the area.
+
+    Parameters
+    ----------
+    nominal : dict
+        The plume world's nominal description (``bounds``, ``max_turn``).
+    pos : ndarray, shape (2,)
+        Where the walker stands.
+    heading : float
+        Its heading, rad.
+
+    Returns
+    -------
+    float
+    """
+    (x0, x1), (y0, y1) = nominal["bounds"]
+    want = np.arctan2((y0 + y1) / 2 - pos[1], (x0 + x1) / 2 - pos[0])
+    diff = (want - heading + np.pi) % (2 * np.pi) - np.pi
+    return heading + np.sign(diff) * np.radians(nominal["max_turn"])
 
 
 def candidate_moves(nominal: dict, position, heading: float):
@@ -201,11 +225,7 @@ class PlumeSearch(Strategy):
             return None
         cands, hds = candidate_moves(self.nominal, self.pos, self.heading)
         if len(cands) == 0:
-            # at the edge facing out: turn toward the middle of the area where it stands
-            (x0, x1), (y0, y1) = self.nominal["bounds"]
-            want = np.arctan2((y0 + y1) / 2 - self.pos[1], (x0 + x1) / 2 - self.pos[0])
-            diff = (want - self.heading + np.pi) % (2 * np.pi) - np.pi
-            self._next_heading = self.heading + np.sign(diff) * np.radians(self.nominal["max_turn"])
+            self._next_heading = turn_inward(self.nominal, self.pos, self.heading)
             return Stay(self.pos)
         k = self.decide(cands)
         self._next_heading = float(hds[k])

@@ -42,7 +42,7 @@ from ..intents import Move, Stay
 from ..worlds.plume import plume_rate
 from . import register
 from .base import SearchContext, Status, Strategy
-from .infotaxis import candidate_moves
+from .infotaxis import candidate_moves, turn_inward
 
 __all__ = ["PlumeImaging"]
 
@@ -146,10 +146,7 @@ class PlumeImaging(Strategy):
             return None
         cands, hds = candidate_moves(self.nominal, self.pos, self.heading)
         if len(cands) == 0:
-            (x0, x1), (y0, y1) = self.nominal["bounds"]
-            want = np.arctan2((y0 + y1) / 2 - self.pos[1], (x0 + x1) / 2 - self.pos[0])
-            diff = (want - self.heading + np.pi) % (2 * np.pi) - np.pi
-            self._next_heading = self.heading + np.sign(diff) * np.radians(self.nominal["max_turn"])
+            self._next_heading = turn_inward(self.nominal, self.pos, self.heading)
             return Stay(self.pos)
         self.goal = self.target()
         k = int(np.argmin(np.hypot(*(cands - self.goal).T)))

@@ -12,10 +12,10 @@ from reciprocity.beliefs.particles import ParticleBelief, grid_particles
 from reciprocity.errors import SearchError
 from reciprocity.observations import Observation
 from reciprocity.scenarios import load_scenario
-from reciprocity.strategies import STRATEGIES
-from reciprocity.strategies.base import SearchContext
 from reciprocity.worlds.plume import PlumeParams, PlumeWorld, plume_length, plume_rate
 from reciprocity.worlds.plume_kind import otto_initial_hit_probabilities, otto_max_hits
+
+from plume_beliefs import hand_built
 
 SONG = PlumeParams(rate=2.0, a=1.0, D=1.0, tau=400.0, V=0.5, wind_direction=0.0, form="wind")
 
@@ -116,19 +116,7 @@ def test_resampling_below_a_third_keeps_the_cloud_inside_and_resets_weights():
 
 
 # -- policies on hand-built beliefs (as otto's tests) ---------------------------------------
-def _strategy(name, points, weights, *, at=(9.5, 9.5), grid=True, **params):
-    sc = load_scenario("otto-2d" if grid else "song-100")
-    w = sc.build_world(0)
-    nom = dict(w.nominal(), initial_hit=None)
-    s = STRATEGIES[name](**params)
-    s.start(SearchContext("plume", nom, np.array([[at[0], at[1], np.pi / 2]]), np.random.default_rng(0)))
-    b = s.belief
-    b.x = np.asarray(points, float)
-    b.M = len(b.x)
-    b.logw = np.log(np.asarray(weights, float))
-    b.loglik = np.zeros(b.M)
-    b._normalise()
-    return s
+_strategy = hand_built
 
 
 @pytest.mark.parametrize("name", ["infotaxis", "space-aware-infotaxis", "free-energy", "mapless-infotaxis"])

@@ -14,19 +14,9 @@ from reciprocity.strategies.base import SearchContext
 from reciprocity.strategies.infotaxis import candidate_moves
 from reciprocity.strategies.lookahead import move_set
 
+from plume_beliefs import hand_built
 
-def _strategy(name, points, weights, *, at=(9.5, 9.5), grid=True, heading=np.pi / 2, **params):
-    sc = load_scenario("otto-2d" if grid else "song-100")
-    nom = dict(sc.build_world(0).nominal(), initial_hit=None)
-    s = STRATEGIES[name](**params)
-    s.start(SearchContext("plume", nom, np.array([[at[0], at[1], heading]]), np.random.default_rng(0)))
-    b = s.belief
-    b.x = np.asarray(points, float)
-    b.M = len(b.x)
-    b.logw = np.log(np.asarray(weights, float))
-    b.loglik = np.zeros(b.M)
-    b._normalise()
-    return s
+_strategy = hand_built
 
 
 CLOUD = ([[12.5, 9.5], [13.5, 9.5], [12.5, 10.5], [6.5, 12.5], [9.5, 4.5]], [0.3, 0.2, 0.2, 0.2, 0.1])
