@@ -131,11 +131,16 @@ def cmd_scenarios(args) -> int:
 
 
 def cmd_strategies(args) -> int:
-    print(f"{'name':<22} {'worlds':<26} {'observers':<9}  description")
+    rows = []
     for name, cls in STRATEGIES.items():
-        doc = (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
-        agents = "any" if cls.agents is None else str(cls.agents)
-        print(f"{name:<22} {', '.join(cls.worlds):<26} {agents:<9}  {doc}")
+        first = " ".join((cls.__doc__ or "").strip().split("\n\n")[0].split())
+        doc = first if len(first) <= 100 else first[:99].rstrip() + "…"
+        rows.append((name, ", ".join(cls.worlds), "any" if cls.agents is None else str(cls.agents), doc))
+    wn = max(len("name"), *(len(r[0]) for r in rows))
+    ww = max(len("worlds"), *(len(r[1]) for r in rows))
+    print(f"{'name':<{wn}} {'worlds':<{ww}} {'observers':<9}  description")
+    for name, worlds, agents, doc in rows:
+        print(f"{name:<{wn}} {worlds:<{ww}} {agents:<9}  {doc}")
     return 0
 
 
