@@ -377,6 +377,26 @@ class Calibration:
         -------
         float
         """
+        return math.hypot(*self.signal_noise_parts(mapping, n))
+
+    def signal_noise_parts(self, mapping: GreyMapping, n: int = 1) -> tuple[float, float]:
+        """:meth:`signal_noise` split into what differs between readings and what they share.
+
+        Parameters
+        ----------
+        mapping : GreyMapping
+        n : int
+            Readings averaged per value.
+
+        Returns
+        -------
+        independent : float
+            Reading noise of the mean and grey quantisation, signal units: independent from
+            one reading to the next.
+        shared : float
+            The fitted curve's own error, signal units: the same offset for every reading
+            of a run (one calibration).
+        """
         if not isinstance(mapping, GreyMapping):
             raise ArenaError(f"mapping must be a GreyMapping (Floor.mapping); got "
                              f"{type(mapping).__name__}")
@@ -385,9 +405,9 @@ class Calibration:
         counts = self._fit[0]
         grid = np.linspace(counts[0], counts[-1], 64)
         grey_per_count = float(np.median(self._inverse.derivative()(grid)))
-        counts_sd = self.noise * math.sqrt(1.0 / n + 1.0 / self.samples)
-        grey_sd = math.hypot(counts_sd * grey_per_count, 1.0 / math.sqrt(12.0))
-        return grey_sd / mapping.slope
+        independent = math.hypot(self.noise / math.sqrt(n) * grey_per_count, 1.0 / math.sqrt(12.0))
+        shared = self.noise / math.sqrt(self.samples) * grey_per_count
+        return independent / mapping.slope, shared / mapping.slope
 
     def intensity(self, counts, mapping: GreyMapping, n: int = 1) -> tuple[np.ndarray, np.ndarray]:
         """Calibrated signal of readings and their saturation flags.

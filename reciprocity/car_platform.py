@@ -201,10 +201,12 @@ class CarPlatform(Platform):
     def nominal(self) -> dict:
         """``reading_noise``: the calibrated standard deviation of one dwell's reading,
         signal units (:meth:`arenas.sensor.Calibration.signal_noise` over the dwell's
-        samples)."""
+        samples); ``reading_bias``: the part of it that is one offset shared by every
+        reading of the run (the calibration fit's error)."""
         tb = self.testbed
         n = max(1, int(round(self.options.dwell * tb.sensor.rate)))
-        return dict(reading_noise=tb.calibration.signal_noise(tb.floor.mapping, n))
+        independent, shared = tb.calibration.signal_noise_parts(tb.floor.mapping, n)
+        return dict(reading_noise=float(np.hypot(independent, shared)), reading_bias=float(shared))
 
     def summary(self) -> dict:
         tb = self.testbed

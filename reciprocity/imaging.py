@@ -103,6 +103,11 @@ class ImagingMap:
         ``tests/reciprocity/test_reciprocity_rules.py`` it put both modes against the
         walls. Saturated (censored) readings are scored at each point's most probable
         ``c``. The mean combination (eq. 8) keeps the per-point fit.
+    offset_sd : float
+        With ``combine="product"`` and no `strength_range`: standard deviation (signal
+        units) of one offset shared by every reading (a sensor calibration's error), added
+        to the independent noise of ``sigma`` and integrated out in closed form (the
+        readings' covariance is ``(sigma^2/2) I + offset_sd^2 11^T``). 0: none.
     combine : {"mean", "product"}
         ``"mean"``: eq. (8). ``"product"``: ``Π p_k`` rescaled to maximum 1.
 
@@ -119,7 +124,8 @@ class ImagingMap:
     """
 
     def __init__(self, solver: GreenSolver, sigma: float, *, strength: float | None,
-                 combine: str = "mean", strength_range: tuple[float, float] | None = None):
+                 combine: str = "mean", strength_range: tuple[float, float] | None = None,
+                 offset_sd: float = 0.0):
         if not isinstance(solver, GreenSolver):
             raise ReciprocityError("solver must be a reciprocity.GreenSolver")
         if not np.isfinite(sigma) or sigma <= 0:
@@ -134,7 +140,11 @@ class ImagingMap:
                 raise ReciprocityError(f"strength_range must be (lo, hi) with 0 <= lo < hi; got "
                                        f"{strength_range!r}")
             strength_range = (lo, hi)
+        if not np.isfinite(offset_sd) or offset_sd < 0:
+            raise ReciprocityError(f"offset_sd must be a standard deviation >= 0 (signal units); "
+                                   f"got {offset_sd!r}")
         self.solver, self.sigma, self.strength, self.combine = solver, float(sigma), strength, combine
+        self.offset_sd = float(offset_sd)
         self.strength_range = strength_range if strength is None else None
         self.nodes = solver.nodes
         self.triangles = solver.triangles
@@ -278,6 +288,12 @@ class ImagingMap:
                 else:
                     r = self._residuals()
                     s = np.sum(r * r, axis=1)
+                    if self.offset_sd > 0:
+                        # one offset b ~ N(0, offset_sd^2) shared by every reading, integrated
+                        # out: covariance s^2 I + offset_sd^2 11^T, s = sigma / sqrt 2
+                        s2 = self.sigma ** 2 / 2.0
+                        kappa = self.offset_sd ** 2 / (s2 + self.n * self.offset_sd ** 2)
+                        s = s - kappa * np.sum(r, axis=1) ** 2
                 P = np.exp(-(s - s.min()))
             self._cache["P"] = P
         return self._cache["P"]

@@ -325,8 +325,17 @@ class ReciprocityStrategy(Strategy):
         noise = nominal.get("noise", PAPER_NOISE)
         if self.sigma == "calibrated":
             noise = nominal.get("reading_noise", noise)
+            # the shared part of the calibrated noise is imaged as one offset (offset_sd)
+            noise = np.sqrt(max(noise ** 2 - self.reading_bias(nominal) ** 2, 0.0))
         noise = max(float(noise), MIN_NOISE)
         return noise if self.sigma == "noise" else np.sqrt(2.0) * noise
+
+    def reading_bias(self, nominal: dict) -> float:
+        """Standard deviation of an offset shared by every reading (signal units): the
+        platform's ``reading_bias`` with ``sigma="calibrated"``, else 0."""
+        if self.sigma != "calibrated":
+            return 0.0
+        return float(nominal.get("reading_bias", 0.0)) if "reading_noise" in nominal else 0.0
 
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
@@ -336,8 +345,10 @@ class ReciprocityStrategy(Strategy):
             self.solver = cached_solver(geometry, self.h)
         c = ctx.nominal.get("strength", arena.strength) if self.strength == "arena" else self.strength
         self.sigma_used = float(self.reading_sigma(ctx.nominal))
+        prior = self._prior_range(ctx) if c is None else None
+        offset = self.reading_bias(ctx.nominal) if prior is None and self.combine == "product" else 0.0
         self.imaging = ImagingMap(self.solver, self.sigma_used, strength=c, combine=self.combine,
-                                  strength_range=self._prior_range(ctx) if c is None else None)
+                                  strength_range=prior, offset_sd=offset)
         self.space = self._space(geometry)
         self.rng = ctx.rng
         self._reachable = self.space.reachable_from(pose[:2], self.clearance)

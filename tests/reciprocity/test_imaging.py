@@ -162,3 +162,32 @@ def test_large_probe_sets_are_remembered(solver):
     assert (abs(fresh - m1)).max() == 0 and np.array_equal(inside, in1)
     small = pts[:10]
     assert solver.probe_matrix(small)[0] is not solver.probe_matrix(small)[0]
+
+
+def test_shared_offset_is_integrated_out(solver):
+    """With ``offset_sd`` the map is the likelihood with one offset shared by all readings
+    integrated out: equal to quadrature over the offset, and a constant bias of the
+    readings moves the estimate less than without it."""
+    from scipy.integrate import quad
+    source = np.array([90.0, 60.0])
+    sigma, bias_sd = 2.0 * np.sqrt(2.0), 3.0
+    readings = [(p, v + 4.0) for p, v in _noiseless(solver, source, POINTS, c=600.0)]   # biased by +4
+    im = r.ImagingMap(solver, sigma=sigma, strength=600.0, combine="product", offset_sd=bias_sd)
+    plain = r.ImagingMap(solver, sigma=sigma, strength=600.0, combine="product")
+    for p, v in readings:
+        im.add(p, v)
+        plain.add(p, v)
+    nodes = [int(np.argmin(np.hypot(*(solver.nodes - q).T))) for q in ([90, 60], [92, 61], [70, 70])]
+    s = sigma / np.sqrt(2.0)
+    resid = im.model()[nodes] - im.readings                    # (3, M)
+
+    def evidence(row):
+        f = lambda b: np.exp(-np.sum((row + b) ** 2) / (2 * s * s) - b * b / (2 * bias_sd ** 2))
+        return quad(f, -40, 40, points=[-row.mean()], limit=200)[0]
+
+    brute = np.array([evidence(row) for row in resid])
+    P = im.values()[nodes]
+    assert np.allclose((P / P[0])[brute > 1e-200], (brute / brute[0])[brute > 1e-200], rtol=1e-6)
+    assert np.hypot(*(im.estimate() - source)) <= np.hypot(*(plain.estimate() - source)) + 1e-9
+    with pytest.raises(r.ReciprocityError, match="offset_sd"):
+        r.ImagingMap(solver, sigma=5.0, strength=600.0, offset_sd=-1.0)
