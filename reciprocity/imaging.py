@@ -108,6 +108,11 @@ class ImagingMap:
         units) of one offset shared by every reading (a sensor calibration's error), added
         to the independent noise of ``sigma`` and integrated out in closed form (the
         readings' covariance is ``(sigma^2/2) I + offset_sd^2 11^T``). 0: none.
+    model_error : float
+        With ``combine="product"`` and no `strength_range`: the model's own relative error
+        (the FEM field near the source, the painted floor), a fraction of the predicted
+        reading added in quadrature to the noise: reading ``k`` at a candidate ``x`` has
+        variance ``sigma^2/2 + (model_error v_k(x))^2``. 0: none.
     combine : {"mean", "product"}
         ``"mean"``: eq. (8). ``"product"``: ``Π p_k`` rescaled to maximum 1.
 
@@ -125,7 +130,7 @@ class ImagingMap:
 
     def __init__(self, solver: GreenSolver, sigma: float, *, strength: float | None,
                  combine: str = "mean", strength_range: tuple[float, float] | None = None,
-                 offset_sd: float = 0.0):
+                 offset_sd: float = 0.0, model_error: float = 0.0):
         if not isinstance(solver, GreenSolver):
             raise ReciprocityError("solver must be a reciprocity.GreenSolver")
         if not np.isfinite(sigma) or sigma <= 0:
@@ -145,6 +150,9 @@ class ImagingMap:
                                    f"got {offset_sd!r}")
         self.solver, self.sigma, self.strength, self.combine = solver, float(sigma), strength, combine
         self.offset_sd = float(offset_sd)
+        if not np.isfinite(model_error) or not 0 <= model_error < 1:
+            raise ReciprocityError(f"model_error must be a fraction in [0, 1); got {model_error!r}")
+        self.model_error = float(model_error)
         self.strength_range = strength_range if strength is None else None
         self.nodes = solver.nodes
         self.triangles = solver.triangles
@@ -268,6 +276,24 @@ class ImagingMap:
             self._cache["p"] = np.exp(-r * r)
         return self._cache["p"]
 
+    def _correlated_misfit(self, r: np.ndarray) -> np.ndarray:
+        """``-log`` likelihood per node (up to a constant) of readings with independent
+        variances ``d_k = s^2 + (model_error v_k)^2`` (``s = sigma/sqrt 2``) and one shared
+        offset of variance ``offset_sd^2`` integrated out (Sherman-Morrison; the
+        log-determinant counts, as the variances differ from node to node). `r` are the
+        residuals over ``sigma`` (censoring applied)."""
+        s2 = self.sigma ** 2 / 2.0
+        d = s2 + (self.model_error * self.model()) ** 2              # (n_nodes, M)
+        e = r * self.sigma                                           # residuals, signal units
+        q = np.sum(e * e / d, axis=1)
+        logdet = np.sum(np.log(d / s2), axis=1)
+        if self.offset_sd > 0:
+            b2 = self.offset_sd ** 2
+            inv_sum = np.sum(1.0 / d, axis=1)
+            q = q - b2 * np.sum(e / d, axis=1) ** 2 / (1.0 + b2 * inv_sum)
+            logdet = logdet + np.log1p(b2 * inv_sum)
+        return 0.5 * q + 0.5 * logdet
+
     def _residuals(self) -> np.ndarray:
         """``(v_k - I_k) / sigma`` at every node; 0 where a saturated reading is
         exceeded (a censored reading only says the signal is at least ``I_k``)."""
@@ -287,13 +313,10 @@ class ImagingMap:
                     s = self._marginal_misfit()
                 else:
                     r = self._residuals()
-                    s = np.sum(r * r, axis=1)
-                    if self.offset_sd > 0:
-                        # one offset b ~ N(0, offset_sd^2) shared by every reading, integrated
-                        # out: covariance s^2 I + offset_sd^2 11^T, s = sigma / sqrt 2
-                        s2 = self.sigma ** 2 / 2.0
-                        kappa = self.offset_sd ** 2 / (s2 + self.n * self.offset_sd ** 2)
-                        s = s - kappa * np.sum(r, axis=1) ** 2
+                    if self.model_error > 0 or self.offset_sd > 0:
+                        s = self._correlated_misfit(r)
+                    else:
+                        s = np.sum(r * r, axis=1)
                 P = np.exp(-(s - s.min()))
             self._cache["P"] = P
         return self._cache["P"]

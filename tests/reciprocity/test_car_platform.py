@@ -110,12 +110,14 @@ def test_car_episode_end_to_end_and_reproducible(small, tmp_path):
     assert s["error"] < 5.0 and s["collisions"] == 0 and s["sim_time_s"] > 0
     for key in ("n_measurements", "path_length", "estimate", "sim_time_s"):
         assert s[key] == ep2.summary[key]
-    # the car reports its calibrated reading noise; sigma="calibrated" images with it
-    noise = plat.nominal()["reading_noise"]
-    assert 0.5 < noise < 5.0
-    assert r.ReciprocityStrategy(sigma="calibrated").reading_sigma(
-        {"noise": 12.0, **plat.nominal()}) == pytest.approx(np.sqrt(2.0) * noise)
-    assert strat.sigma_used == pytest.approx(np.sqrt(2.0) * 12.0)
+    # the car reports its calibrated reading noise and the imaging uses it: the shared
+    # calibration error as one offset, the rest as independent noise, plus model error
+    nominal = plat.nominal()
+    assert 0.5 < nominal["reading_noise"] < 5.0 and 0 < nominal["reading_bias"] < nominal["reading_noise"]
+    independent = np.sqrt(nominal["reading_noise"] ** 2 - nominal["reading_bias"] ** 2)
+    assert strat.sigma_used == pytest.approx(np.sqrt(2.0) * independent)
+    assert strat.imaging.offset_sd == pytest.approx(nominal["reading_bias"])
+    assert strat.imaging.model_error == r.strategies.reciprocal.CALIBRATED_MODEL_ERROR
     text = ep.to_json(tmp_path / "ep.json")
     back = json.loads(text)
     rec = back["trace"][-1]

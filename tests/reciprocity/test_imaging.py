@@ -191,3 +191,24 @@ def test_shared_offset_is_integrated_out(solver):
     assert np.hypot(*(im.estimate() - source)) <= np.hypot(*(plain.estimate() - source)) + 1e-9
     with pytest.raises(r.ReciprocityError, match="offset_sd"):
         r.ImagingMap(solver, sigma=5.0, strength=600.0, offset_sd=-1.0)
+
+
+def test_model_error_and_offset_are_the_gaussian_likelihood(solver):
+    """Per-node variances s^2 + (model_error v_k)^2 plus a shared offset: the map equals
+    the multivariate normal density of the readings, node by node."""
+    from scipy.stats import multivariate_normal
+    source = np.array([90.0, 60.0])
+    sigma, bias_sd, rel = 3.0, 2.0, 0.05
+    rng = np.random.default_rng(4)
+    im = r.ImagingMap(solver, sigma=sigma, strength=600.0, combine="product", offset_sd=bias_sd,
+                      model_error=rel)
+    for p, v in _noiseless(solver, source, POINTS, c=600.0):
+        im.add(p, v + rng.normal(0.0, 2.0))
+    nodes = [int(np.argmin(np.hypot(*(solver.nodes - q).T))) for q in ([90, 60], [88, 63], [60, 90])]
+    v = im.model()[nodes]
+    logpdf = np.array([multivariate_normal(mean=row, cov=np.diag(sigma ** 2 / 2 + (rel * row) ** 2)
+                                           + bias_sd ** 2).logpdf(im.readings) for row in v])
+    P = im.values()[nodes]
+    assert np.allclose(np.log(P) - np.log(P[0]), logpdf - logpdf[0], atol=1e-8)
+    with pytest.raises(r.ReciprocityError, match="model_error"):
+        r.ImagingMap(solver, sigma=5.0, strength=600.0, model_error=1.5)

@@ -47,8 +47,13 @@ def test_paper_preset_is_algorithm_1(empty):
     told_car.start(r.SearchContext("poisson", car_nominal, np.array([[20.0, 20.0, 0.0]]),
                                    np.random.default_rng(0)))
     assert told.sigma_used > told_car.sigma_used == pytest.approx(2.0 * np.sqrt(2.0))
-    # the default keeps the world's stated noise even when the platform reports its own
-    assert r.ReciprocityStrategy().reading_sigma(car_nominal) == pytest.approx(12.0 * np.sqrt(2.0))
+    # the default uses the platform's own noise where it reports one, else the world's
+    assert r.ReciprocityStrategy().reading_sigma(car_nominal) == pytest.approx(2.0 * np.sqrt(2.0))
+    assert r.ReciprocityStrategy(sigma="auto").reading_sigma(car_nominal) == pytest.approx(12.0 * np.sqrt(2.0))
+    # the shared part is imaged as one offset, the rest as independent noise
+    biased = dict(car_nominal, reading_bias=1.2)
+    assert r.ReciprocityStrategy().reading_sigma(biased) == pytest.approx(np.sqrt(2.0 ** 2 - 1.2 ** 2) * np.sqrt(2.0))
+    assert r.ReciprocityStrategy().reading_bias(biased) == 1.2 and r.ReciprocityStrategy(sigma="auto").reading_bias(biased) == 0.0
     with pytest.raises(r.SearchError, match="preset"):
         r.ReciprocityStrategy(preset="landa")
     with pytest.raises(r.SearchError, match="sigma"):
