@@ -97,9 +97,8 @@ class ImagingMap:
         a huge ``c``; the prior bound and the integral remove both. The likelihood is
         Gaussian in ``c``, so its integral over each of STRENGTH_CELLS log-spaced cells
         is a difference of normal CDFs, weighted by ``1/c`` at the mean of ``c`` within
-        the cell. A
-        uniform prior instead would favour points weakly coupled to every observation
-        point (the integral's width grows as ``1/|g|``): on the mirror test of
+        the cell. A uniform prior instead would favour points weakly coupled to every
+        observation point (the integral's width grows as ``1/|g|``): on the mirror test of
         ``tests/reciprocity/test_reciprocity_rules.py`` it put both modes against the
         walls. Saturated (censored) readings are scored at each point's most probable
         ``c``. The mean combination (eq. 8) keeps the per-point fit.

@@ -57,7 +57,8 @@ class GradientStrategy(Strategy):
 
     The paper stops when a reading exceeds ``I_max``, the signal at the source, which it
     assumes known; the estimate is then the observer's position. That rule is used when
-    `i_max` is given (``stop_radius=0`` makes it the only rule, as in the paper). By
+    `i_max` is given (``stop_radius=0, stall_steps=0`` make it the only rule, as in the
+    paper). By
     default (``i_max=None``), which needs no knowledge of the source, and also alongside
     ``I_max`` unless ``stop_radius=0``, the search stops once a gradient estimate puts the
     source within `stop_radius`; the estimate is again the observer's position (moving it
