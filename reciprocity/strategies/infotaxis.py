@@ -48,7 +48,7 @@ from .base import SearchContext, Status, Strategy
 
 __all__ = ["PlumeSearch", "Infotaxis", "FreeEnergyInfotaxis", "MaplessInfotaxis", "Entrotaxis",
            "SpaceAwareInfotaxis", "VoIInfotaxis", "candidate_moves", "make_belief", "posterior_entropies",
-           "turn_inward"]
+           "turn_inward", "walker_proposal"]
 
 #: otto's tie tolerance between scores.
 TIE = 1e-10
@@ -63,6 +63,33 @@ def _positive(name, v, *, integer=False):
     if not ok:
         raise SearchError(f"{name} must be a positive {'whole ' if integer else ''}number; got {v!r}")
     return int(v) if integer else float(v)
+
+
+def walker_proposal(nominal: dict, pos: np.ndarray, heading: float, choose) -> tuple:
+    """The next intent of a plume walker and its heading after it.
+
+    Parameters
+    ----------
+    nominal : dict
+        The plume world's nominal description.
+    pos : ndarray, shape (2,)
+        Where the walker stands.
+    heading : float
+        Its heading, rad.
+    choose : callable
+        ``choose(candidates (m, 2)) -> index`` of the admissible move to take.
+
+    Returns
+    -------
+    (Intent, float)
+        ``Move`` to the chosen candidate and its heading, or, at the edge facing out with
+        no admissible move, ``Stay`` and :func:`turn_inward`'s heading.
+    """
+    cands, hds = candidate_moves(nominal, pos, heading)
+    if len(cands) == 0:
+        return Stay(pos), turn_inward(nominal, pos, heading)
+    k = int(choose(cands))
+    return Move(cands[k]), float(hds[k])
 
 
 def turn_inward(nominal: dict, pos: np.ndarray, heading: float) -> float:
@@ -223,13 +250,8 @@ class PlumeSearch(Strategy):
     def propose(self):
         if self.done:
             return None
-        cands, hds = candidate_moves(self.nominal, self.pos, self.heading)
-        if len(cands) == 0:
-            self._next_heading = turn_inward(self.nominal, self.pos, self.heading)
-            return Stay(self.pos)
-        k = self.decide(cands)
-        self._next_heading = float(hds[k])
-        return Move(cands[k])
+        intent, self._next_heading = walker_proposal(self.nominal, self.pos, self.heading, self.decide)
+        return intent
 
     def observe(self, observations, intent, agent: int = 0) -> None:
         for obs in observations:

@@ -38,11 +38,10 @@ from scipy.ndimage import gaussian_filter
 from scipy.special import gammaln
 
 from ..errors import SearchError
-from ..intents import Move, Stay
 from ..worlds.plume import plume_rate
 from . import register
 from .base import SearchContext, Status, Strategy
-from .infotaxis import candidate_moves, turn_inward
+from .infotaxis import walker_proposal
 
 __all__ = ["PlumeImaging"]
 
@@ -144,14 +143,13 @@ class PlumeImaging(Strategy):
     def propose(self):
         if self.done:
             return None
-        cands, hds = candidate_moves(self.nominal, self.pos, self.heading)
-        if len(cands) == 0:
-            self._next_heading = turn_inward(self.nominal, self.pos, self.heading)
-            return Stay(self.pos)
+        intent, self._next_heading = walker_proposal(self.nominal, self.pos, self.heading, self._toward_goal)
+        return intent
+
+    def _toward_goal(self, cands: np.ndarray) -> int:
+        """The admissible move nearest to the ``"reach"`` rule's target (kept as `goal`)."""
         self.goal = self.target()
-        k = int(np.argmin(np.hypot(*(cands - self.goal).T)))
-        self._next_heading = float(hds[k])
-        return Move(cands[k])
+        return int(np.argmin(np.hypot(*(cands - self.goal).T)))
 
     def observe(self, observations, intent, agent: int = 0) -> None:
         for obs in observations:
