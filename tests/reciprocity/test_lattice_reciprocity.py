@@ -190,11 +190,33 @@ def test_sampled_maps_follow_the_rbpf_links_and_unseen_prior():
     assert abs(drawn[~seen].mean() - 0.65) < 0.02       # 1 - p, not the RBPF prior 1/2
 
 
-def test_rbpf_path_planner_runs_and_is_validated():
-    s = run("ristic-lattice", "rbpf", seed=1, params={"n_particles": 200, "n_gain": 20, "planner": "path"},
-            world=FAST).summary
-    assert s["params"]["planner"] == "path" if isinstance(s.get("params"), dict) else True
-    assert 1 <= s["steps"] <= 100
+def test_rbpf_path_planner_steps_along_the_believed_map():
+    """With every source particle on one node, the path planner's move is one link closer
+    to it over the links the searcher believes present (the gain planner need not be)."""
+    from reciprocity.api import execute
+    from scipy.sparse import coo_matrix
+    ep, s, _ = execute("ristic-lattice", "rbpf", seed=1, world=FAST,
+                       params={"n_particles": 200, "n_gain": 20, "planner": "path"})
+    assert ep.summary["params"]["planner"] == "path"
+    b, sp = s.belief, s.space
+    here = int(np.argmax(b.node_weights()))
+    goal = int(sp.index_of(sp.points[here] + [0.0, 6.0])[0])
+    assert goal >= 0
+    b.source = np.repeat(sp.points[goal][None], len(b.source), axis=0)
+    q = b.w @ b.q.astype(float)
+    a, c = sp.links[q >= 0.5 - 1e-6].T
+    n = len(sp.points)
+    adj = coo_matrix((np.ones(2 * a.size), (np.r_[a, c], np.r_[c, a])), shape=(n, n)).tocsr()
+    dist = shortest_path(adj, unweighted=True, directed=False, indices=[goal])[0]
+    assert np.isfinite(dist[here]) and dist[here] >= 1
+    ok = s.admissible()
+    s.gains = s.gains_of(ok)
+    k = s._path_control(ok, here)
+    assert ok[k]
+    after = here if k == 0 else int(sp.step_of[here, k - 1])
+    assert dist[after] == dist[here] - 1
+
+def test_rbpf_planner_is_validated():
     with pytest.raises(SearchError, match="planner must be") as exc:
         run("ristic-lattice", "rbpf", seed=0, params={"planner": "astar"}, world=FAST)
     assert "\n" not in str(exc.value)
