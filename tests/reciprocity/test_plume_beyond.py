@@ -192,3 +192,26 @@ def test_plume_imaging_episodes_find_the_source():
 def test_bad_plume_imaging_parameters(params, match):
     with pytest.raises(SearchError, match=match):
         run("song-100", "plume-reciprocity", params=params)
+
+
+# -- the bound of benchmarks/plume_phases.py -----------------------------------------------------
+def _phases_module():
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "plume_phases.py"
+    spec = importlib.util.spec_from_file_location("plume_phases", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_phase_bound_is_the_straight_walk_and_grows_with_the_turn_limit():
+    oracle = _phases_module().oracle_steps
+    # heading already at the source: ceil(d - R) unit steps
+    assert oracle([0, 0], 0.0, [10, 0], step=1.0, max_turn_deg=30, radius=3.0) == 7
+    # facing away: the U-turn costs steps; a tighter turn limit costs more
+    wide = oracle([0, 0], 180.0, [10, 0], step=1.0, max_turn_deg=30, radius=3.0)
+    tight = oracle([0, 0], 180.0, [10, 0], step=1.0, max_turn_deg=3, radius=3.0)
+    assert 7 + 5 <= wide < tight
+    # song-100 with 30 degree turns: 94.3 apart, start heading 90 degrees, 45 off the line
+    assert oracle([33.33, -33.33], 90.0, [-33.33, 33.33], step=1.0, max_turn_deg=30, radius=3.0) == 92
