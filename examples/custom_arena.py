@@ -15,7 +15,7 @@ import cv2
 import numpy as np
 
 import arenas
-from reciprocity.figures import field_figure
+from reciprocity.viz.figures import field_figure
 from reciprocity.runner import search
 
 

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 import arenas
-from reciprocity.figures import imaging_steps_figure
+from reciprocity.viz.figures import imaging_steps_figure
 from reciprocity.runner import search
 
 

@@ -10,11 +10,9 @@ from .api import check, execute, run
 from .beliefs import Belief, Predictive
 from .episode import SUMMARY_KEYS, Episode, StepRecord, run_episode
 from .errors import MeshError, ReciprocityError, SearchError, UnreachableTarget
-from .exact import disk_green, free_space_green
-from .green import Field, GreenSolver
+from .fem import Field, GreenSolver, disk_green, free_space_green, mesh_free_region, reentrant_corners
 from .imaging import COMBINATIONS, ImagingMap, superlevel_area
 from .intents import Intent, Measure, Move, SampleGradient, Stay, StepToward
-from .mesh import mesh_free_region, reentrant_corners
 from .observations import Message, MessageLog, Observation
 from .outcome import Stop, StopReason
 from .platforms import Platform, PointPlatform, WalkerPlatform

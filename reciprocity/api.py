@@ -70,7 +70,7 @@ def check(scenario: str | Scenario, strategy: str, *, params: dict | None = None
         raise SearchError(f"agents must be at least 1; got {agents}")
     make_strategy(strategy, **(params or {}))
     if plat == "car":
-        from .car_platform import check_car_options
+        from .platforms.car import check_car_options
         check_car_options(dict(platform_options or {}))
     return sc
 

@@ -77,7 +77,7 @@ def _header(world: str = "poisson") -> str:
 
 
 def _write_figures(out: Path, episode, strategy, platform, arena, *, video: bool = False) -> list[Path]:
-    from .figures import gradient_run_figure, imaging_steps_figure
+    from .viz.figures import gradient_run_figure, imaging_steps_figure
     out.mkdir(parents=True, exist_ok=True)
     name = episode.summary["strategy"]
     car = platform.name == "car"
@@ -95,7 +95,7 @@ def _write_figures(out: Path, episode, strategy, platform, arena, *, video: bool
     if car:
         files.extend(_write_testbed_files(out, platform))
         if video:
-            from .video import write_video
+            from .viz.video import write_video
             imaging = strategy.imaging if name == "reciprocity" else None
             files.append(write_video(out / f"{prefix}.mp4", episode, arena, platform.testbed.floor.image,
                                      imaging=imaging))

@@ -26,7 +26,7 @@ from .errors import SearchError, UnreachableTarget
 from .intents import Intent
 from .observations import MessageLog, Observation
 from .outcome import Stop, StopReason, is_success
-from .platforms import Platform
+from .platforms.base import Platform
 from .strategies.base import SearchContext, Strategy
 from .worlds.base import World
 

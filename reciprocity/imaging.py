@@ -17,8 +17,8 @@ import numpy as np
 from arenas import as_points
 
 from .errors import ReciprocityError
-from .green import Field, GreenSolver
-from .mesh import node_areas, triangle_areas
+from .fem.green import Field, GreenSolver
+from .fem.mesh import node_areas, triangle_areas
 
 __all__ = ["ImagingMap", "superlevel_area", "COMBINATIONS"]
 

@@ -6,10 +6,10 @@ from __future__ import annotations
 from arenas import Arena
 
 from .api import execute, make_strategy
-from .car_platform import CAR_KEYS
 from .episode import Episode
 from .errors import SearchError
-from .platforms import Platform
+from .platforms.base import Platform
+from .platforms.car import CAR_KEYS
 from .scenarios import Scenario
 from .strategies import Strategy
 from .worlds.poisson import TRUTH_MESH_RATIO, cached_solver

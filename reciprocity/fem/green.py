@@ -23,7 +23,7 @@ from skfem.models.poisson import laplace
 
 from arenas import Arena, as_points
 
-from .errors import ReciprocityError
+from ..errors import ReciprocityError
 from .mesh import mesh_free_region
 
 __all__ = ["GreenSolver", "Field"]
@@ -162,7 +162,7 @@ class GreenSolver:
         self._lu = splu(a_free[:, self._free].tocsc())
         self.timings["factorize"] = time.perf_counter() - clock
         # point location: a trapezoid map on the straight-sided vertex mesh (O(log n))
-        from .spaces.mesh import MeshSpace
+        from ..spaces.mesh import MeshSpace
         #: The straight-sided vertex mesh as a search space: point location, triangulation.
         self.space = mesh if mesh is not None else MeshSpace(arena, self.h, mesh=mesh1)
         self._centroids = cKDTree(mesh1.p[:, mesh1.t].mean(axis=1).T)

@@ -20,7 +20,7 @@ from scipy.spatial import cKDTree
 
 from arenas import Arena
 
-from .errors import MeshError
+from ..errors import MeshError
 
 __all__ = ["mesh_free_region", "cached_mesh", "cache_dir", "reentrant_corners", "triangle_areas", "node_areas"]
 

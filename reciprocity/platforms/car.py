@@ -27,10 +27,10 @@ from arenas import Arena, ArenaError, CarSpec, Testbed
 from arenas.testbed import dead_reckon
 from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank, optimal_path, steering
 
-from .errors import SearchError, UnreachableTarget
-from .intents import Intent, Measure, SampleGradient, StepToward
-from .observations import Observation
-from .platforms import Platform
+from ..errors import SearchError, UnreachableTarget
+from ..intents import Intent, Measure, SampleGradient, StepToward
+from ..observations import Observation
+from .base import Platform
 
 __all__ = ["CAR_KEYS", "CarPlatform", "DrivingOptions", "PLANNERS", "check_car_options", "make_car_platform"]
 

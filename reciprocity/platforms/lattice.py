@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import SearchError
-from .intents import Intent, Move, Stay
-from .observations import Observation
-from .platforms import Platform
-from .spaces.lattice import DIRECTIONS, LatticeSpace
-from .worlds.base import World
+from ..errors import SearchError
+from ..intents import Intent, Move, Stay
+from ..observations import Observation
+from ..spaces.lattice import DIRECTIONS, LatticeSpace
+from ..worlds.base import World
+from .base import Platform
 
 __all__ = ["LatticePlatform", "CONTROLS"]
 

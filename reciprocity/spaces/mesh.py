@@ -18,7 +18,7 @@ from scipy.spatial import cKDTree
 
 from arenas import Arena
 
-from ..mesh import cached_mesh, node_areas
+from ..fem.mesh import cached_mesh, node_areas
 from .base import SearchSpace
 
 __all__ = ["MeshSpace", "mesh_space"]

@@ -17,7 +17,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..green import GreenSolver
+from ..fem.green import GreenSolver
 
 __all__ = ["lattice_nodes", "LatticeGreens", "lattice_greens", "expected_entropy",
            "systematic_support"]

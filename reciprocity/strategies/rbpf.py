@@ -17,7 +17,7 @@ from scipy.special import logsumexp
 from ..beliefs.rbpf import RBPFBelief
 from ..errors import SearchError
 from ..intents import Move, Stay
-from ..lattice_platform import CONTROLS
+from ..platforms.lattice import CONTROLS
 from ..models.lattice import MIN_DISTANCE, log_bhattacharyya, log_evidence
 from . import register
 from .base import SearchContext, Status, Strategy

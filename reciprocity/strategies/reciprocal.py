@@ -9,7 +9,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..errors import SearchError
-from ..green import GreenSolver
+from ..fem.green import GreenSolver
 from ..imaging import COMBINATIONS, ImagingMap
 from ..intents import Measure
 from ..outcome import StopReason

@@ -9,9 +9,9 @@ from matplotlib.tri import Triangulation
 
 from arenas import Arena, Floor
 
-from .episode import Episode
-from .green import Field
-from .imaging import ImagingMap
+from ..episode import Episode
+from ..fem.green import Field
+from ..imaging import ImagingMap
 
 __all__ = ["draw_arena", "imaging_steps_figure", "gradient_run_figure", "field_figure"]
 

@@ -22,8 +22,8 @@ from tqdm import tqdm
 from arenas import Arena, pixel_to_world, world_to_pixel
 from arenas.car import CarSpec, car_footprint
 
-from .episode import Episode
-from .errors import SearchError
+from ..episode import Episode
+from ..errors import SearchError
 
 __all__ = ["write_video"]
 

@@ -95,7 +95,7 @@ def _default_start(world: FilamentWorld, rng: np.random.Generator) -> np.ndarray
 
 
 def _walker(world: FilamentWorld, scenario, options: dict):
-    from ..platforms import WalkerPlatform
+    from ..platforms.walker import WalkerPlatform
     unknown = set(options)
     if unknown:
         raise SearchError(f"unknown walker option(s) {', '.join(sorted(unknown))}; the filament walker takes none")

@@ -115,7 +115,7 @@ def _check_start(world: LatticeWorld, scenario) -> None:
 
 
 def _lattice(world: LatticeWorld, scenario, options: dict):
-    from ..lattice_platform import LatticePlatform
+    from ..platforms.lattice import LatticePlatform
     if options:
         raise SearchError(f"unknown lattice-platform option(s) {', '.join(sorted(options))}; "
                           "it has none (p_e is the world's slip)")
@@ -124,7 +124,7 @@ def _lattice(world: LatticeWorld, scenario, options: dict):
 
 
 def _walker(world: LatticeWorld, scenario, options: dict):
-    from ..platforms import WalkerPlatform
+    from ..platforms.walker import WalkerPlatform
     if options:
         raise SearchError(f"unknown walker option(s) {', '.join(sorted(options))}; it has none here")
     _check_start(world, scenario)

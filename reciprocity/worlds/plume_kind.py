@@ -204,7 +204,7 @@ def _default_start(world: PlumeWorld, rng: np.random.Generator) -> np.ndarray:
 
 
 def _walker(world: PlumeWorld, scenario, options: dict):
-    from ..platforms import WalkerPlatform
+    from ..platforms.walker import WalkerPlatform
     unknown = set(options) - {"slip"}
     if unknown:
         raise SearchError(f"unknown walker option(s) {', '.join(sorted(unknown))}; choose from slip")

@@ -18,7 +18,7 @@ from shapely.geometry import Polygon
 from arenas import Arena, ArenaError
 
 from ..errors import SearchError
-from ..green import Field, GreenSolver
+from ..fem.green import Field, GreenSolver
 from .base import Reading, World
 
 __all__ = ["PoissonWorld", "Mismatch", "TRUTH_MESH_RATIO", "cached_solver", "shifted_walls"]

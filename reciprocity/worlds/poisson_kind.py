@@ -68,7 +68,7 @@ def _default_start(world: PoissonWorld, rng: np.random.Generator) -> np.ndarray:
 
 
 def _point(world: PoissonWorld, scenario, options: dict):
-    from ..platforms import PointPlatform
+    from ..platforms.point import PointPlatform
     from ..spaces import mesh_space
     unknown = set(options) - {"dwell", "route_h"}
     if unknown:
@@ -79,7 +79,7 @@ def _point(world: PoissonWorld, scenario, options: dict):
 
 
 def _car(world: PoissonWorld, scenario, options: dict):
-    from ..car_platform import make_car_platform
+    from ..platforms.car import make_car_platform
     return make_car_platform(world, **options)
 
 

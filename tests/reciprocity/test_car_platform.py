@@ -7,7 +7,7 @@ import pytest
 
 import arenas
 import reciprocity as r
-from reciprocity.car_platform import CarPlatform, DrivingOptions, make_car_platform
+from reciprocity.platforms.car import CarPlatform, DrivingOptions, make_car_platform
 from reciprocity.errors import UnreachableTarget
 from reciprocity.intents import Measure, SampleGradient, StepToward
 from reciprocity.runner import search
@@ -124,7 +124,7 @@ def test_car_episode_end_to_end_and_reproducible(small, tmp_path):
     for key in ("true_poses", "estimated_poses", "replans", "measurements", "collisions"):
         assert key in rec
     assert isinstance(rec["measurements"][0]["counts"][0], int)
-    from reciprocity.video import write_video
+    from reciprocity.viz.video import write_video
     out = write_video(tmp_path / "run.mp4", ep, small, plat.testbed.floor.image, imaging=strat.imaging)
     import cv2
     cap = cv2.VideoCapture(str(out))

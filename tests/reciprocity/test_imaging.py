@@ -152,7 +152,7 @@ def test_bad_input(solver):
 def test_large_probe_sets_are_remembered(solver):
     """A raster (a painted floor) is located once per solver: the second field on it is
     a sparse product, with the same values as locating again."""
-    from reciprocity.green import PROBE_CACHE_MIN
+    from reciprocity.fem.green import PROBE_CACHE_MIN
     rng = np.random.default_rng(0)
     pts = rng.uniform([5, 5], [135, 135], size=(PROBE_CACHE_MIN, 2))
     m1, in1 = solver.probe_matrix(pts)

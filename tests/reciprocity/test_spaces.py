@@ -63,7 +63,7 @@ def test_grid_neighbours_and_masking():
 
 
 def test_mesh_cache_returns_the_mesh_it_would_make(tmp_path, monkeypatch):
-    from reciprocity.mesh import cached_mesh, mesh_free_region
+    from reciprocity.fem.mesh import cached_mesh, mesh_free_region
     arena = arenas.load("maze").without_scenario()
     monkeypatch.setenv("RECIPROCITY_CACHE", str(tmp_path))
     first = cached_mesh(arena, 4.0)

@@ -10,7 +10,7 @@ from matplotlib.tri import LinearTriInterpolator, Triangulation
 import arenas
 from reciprocity.episode import Episode
 from reciprocity.errors import SearchError
-from reciprocity.video import GAP_PX, _Canvas, _ImagingRaster, write_video
+from reciprocity.viz.video import GAP_PX, _Canvas, _ImagingRaster, write_video
 
 SOURCE = [30.0, 22.0]
 FPS, SPEEDUP, PX = 10, 2.0, 4
