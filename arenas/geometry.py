@@ -147,7 +147,7 @@ class Arena:
         """A circular domain of `radius` (cm) around `center`, for analytic checks.
 
         The Green's function of a disk has a closed form (see
-        :func:`reciprocity.exact.disk_green`); meshes of this arena put their boundary
+        :func:`reciprocity.fem.exact.disk_green`); meshes of this arena put their boundary
         nodes on the exact circle.
         """
         c = as_points(center, "disk center")[0]

@@ -140,7 +140,7 @@ def run(scenario: str | Scenario, strategy: str, *, seed: int = 0, params: dict 
         Overrides of the scenario's world parameters (e.g. ``source``, ``strength``,
         ``noise``, ``mismatch``) and ``start``.
     platform_options : dict, optional
-        Options of the platform (car: :data:`reciprocity.car_platform.CAR_KEYS`).
+        Options of the platform (car: :data:`reciprocity.platforms.car.CAR_KEYS`).
     progress : callable, optional
         Called with each step record.
 

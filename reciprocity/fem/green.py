@@ -112,7 +112,7 @@ class GreenSolver:
         (``u = 0``), which makes the problem well posed.
     grading : float, optional
         Mesh grading exponent toward re-entrant corners (see
-        :func:`reciprocity.mesh.mesh_free_region`); default 0.5 for P1, 0.75 for P2.
+        :func:`reciprocity.fem.mesh.mesh_free_region`); default 0.5 for P1, 0.75 for P2.
     mesh : reciprocity.spaces.MeshSpace, optional
         A mesh of the same arena and `h` to solve on (P1), so a search space and its
         solver share one mesh and one triangulation.

@@ -1,7 +1,7 @@
 """The car observer: the simulated micro-car driven by Hamilton-Jacobi value functions.
 
 :class:`CarPlatform` is the controller of the paper's testbed (Landa et al., section V)
-behind the same :class:`~reciprocity.platforms.Platform` interface as the point observer.
+behind the same :class:`~reciprocity.platforms.base.Platform` interface as the point observer.
 For each requested point it
 
 1. gets the value function of the target (on demand, or the nearest of a precomputed

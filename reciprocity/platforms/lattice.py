@@ -6,7 +6,7 @@ carried out instead (eq. (45)), the searcher not knowing. A move along a link th
 not exist in the true lattice leaves the searcher where it is. The platform reports the
 position the searcher *commanded* (dead reckoning), never where it really is.
 
-This differs from :class:`reciprocity.platforms.WalkerPlatform`, whose moves are to
+This differs from :class:`reciprocity.platforms.walker.WalkerPlatform`, whose moves are to
 absolute places and whose slips go to another neighbour (never "stay"): after a slip an
 absolute target is no longer adjacent, so a walker would stall, while the paper's
 controls are relative.

@@ -2,7 +2,7 @@
 
 A strategy that needs candidate points, neighbours, reachability or nodal areas builds a
 :class:`MeshSpace`; only one that solves for Green's functions also builds a
-:class:`~reciprocity.green.GreenSolver` on the *same* mesh (``GreenSolver(arena, h,
+:class:`~reciprocity.fem.green.GreenSolver` on the *same* mesh (``GreenSolver(arena, h,
 mesh=space)``), so one triangulation serves both.
 """
 
@@ -33,7 +33,7 @@ class MeshSpace(SearchSpace):
     arena : Arena
         The arena (its geometry only is used), cm.
     h : float
-        Mesh size, cm (see :func:`reciprocity.mesh.mesh_free_region`).
+        Mesh size, cm (see :func:`reciprocity.fem.mesh.mesh_free_region`).
     grading : float
         Grading exponent toward re-entrant corners.
 

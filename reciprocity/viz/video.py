@@ -428,7 +428,7 @@ def write_video(path, episode: Episode, arena: Arena, floor_image: np.ndarray, *
         Output file; must end in ``.mp4``. Parent folders are created.
     episode : Episode
         A car episode: its trace records carry ``times``, ``true_poses`` and so on
-        (see :class:`reciprocity.car_platform.CarPlatform`). Records may hold lists
+        (see :class:`reciprocity.platforms.car.CarPlatform`). Records may hold lists
         instead of arrays (a trace read back from JSON).
     arena : Arena
         The arena of the episode (walls, obstacles and bounds).
@@ -468,7 +468,7 @@ def write_video(path, episode: Episode, arena: Arena, floor_image: np.ndarray, *
 
     Examples
     --------
-    >>> from reciprocity.video import write_video
+    >>> from reciprocity.viz.video import write_video
     >>> write_video("run.mp4", episode, arena, floor.image,            # doctest: +SKIP
     ...             imaging=strategy.imaging)
     """

@@ -100,7 +100,7 @@ def test_readme_bank_command_is_the_car_platforms_bank(tmp_path, paper):
                                       "--ntheta", "48", "--clearance", "4", "--reverse"])
     from_cli = ValueFunctionBank(_domain(args), args.spacing, rho=args.rho, h=args.h, ntheta=args.ntheta,
                                  clearance=args.clearance, reverse=args.reverse, cache_dir=tmp_path)
-    # reciprocity.car_platform: DrivingOptions defaults, arenas.CarSpec.rho, the arena without its scenario
+    # reciprocity.platforms.car: DrivingOptions defaults, arenas.CarSpec.rho, the arena without its scenario
     from_car = ValueFunctionBank(paper, 12.7, cache_dir=tmp_path, rho=15.0, h=1.5, ntheta=48, clearance=4.0,
                                  reverse=True)
     assert from_cli.directory == from_car.directory

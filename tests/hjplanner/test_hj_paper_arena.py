@@ -7,7 +7,7 @@ from shapely.geometry import LineString
 from hjplanner import solve
 
 SOURCE = (70.21, 70.21)
-# The car platform's planner (reciprocity.car_platform.DrivingOptions and arenas.CarSpec).
+# The car platform's planner (reciprocity.platforms.car.DrivingOptions and arenas.CarSpec).
 CAR = dict(rho=15.0, h=1.5, ntheta=48, clearance=4.0, reverse=True)
 
 
