@@ -37,7 +37,8 @@ def _cache_line(stats: dict) -> str:
         return "no workers started"
     hits = sum(h for per in stats.values() for h, _ in per.values())
     misses = sum(m for per in stats.values() for _, m in per.values())
-    return f"set-up caches on {len(stats)} workers: {hits} hits, {misses} misses"
+    n = len(stats)
+    return f"set-up caches on {n} worker{'' if n == 1 else 's'}: {hits} hits, {misses} misses"
 
 
 def cmd_campaign(args) -> int:
