@@ -267,7 +267,7 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--start", help="start X,Y[,DEG] in cm and degrees (default: the arena's)")
     p.add_argument("--car", action="append", default=[], metavar="KEY=VALUE",
                    help="car option, e.g. --car planner=bank, --car rho=12 (repeatable; see "
-                        "reciprocity.runner.CAR_KEYS)")
+                        "reciprocity.platforms.car.CAR_KEYS)")
     p.add_argument("--no-video", dest="video", action="store_false",
                    help="car runs: do not write the MP4 videos into --out")
     p.add_argument("--seed", type=int, default=0, help="random seed, a whole number >= 0 (default 0)")
