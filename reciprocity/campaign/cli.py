@@ -70,8 +70,9 @@ def cmd_reproduce(args) -> int:
     """``reciprocity reproduce TABLE`` / ``--list``: a paper table beside ours."""
     from .reproduce import TABLES, comparison_markdown, reproduce
     if args.list:
+        width = max(map(len, TABLES), default=0)
         for name, t in TABLES.items():
-            print(f"{name:<22} {t.reference}: {t.title}")
+            print(f"{name:<{width}}  {t.reference}: {t.title}")
         return 0
     if args.table is None:
         raise SearchError("name a table (reciprocity reproduce --list shows them)")
