@@ -18,13 +18,14 @@ so re-running resumes.
 from __future__ import annotations
 
 import argparse
-import hashlib
 import json
 import time
 from multiprocessing import Pool
 from pathlib import Path
 
 import numpy as np
+
+from seed_cache import cached_seeds
 
 
 def _one(job):
@@ -67,19 +68,8 @@ def main(argv=None):
     results = {}
     with Pool(a.workers) as pool:
         for label, name, params in strategies:
-            key = json.dumps([a.scenario, world, name, params], sort_keys=True)
-            f = out / (hashlib.sha1(key.encode()).hexdigest()[:16] + ".jsonl")
-            done = {}
-            if f.exists():
-                for line in f.read_text().splitlines():
-                    r = json.loads(line)
-                    done[r["seed"]] = r
-            todo = [(a.scenario, world, name, params, s) for s in seeds if s not in done]
-            with f.open("a") as fh:
-                for r in pool.imap_unordered(_one, todo, chunksize=4):
-                    done[r["seed"]] = r
-                    fh.write(json.dumps(r) + "\n")
-            results[label] = [done[s] for s in seeds]
+            results[label] = cached_seeds(out, [a.scenario, world, name, params], seeds, _one,
+                                          lambda s: (a.scenario, world, name, params, s), pool, chunksize=4)
     base = a.baseline or strategies[0][0]
     print(f"\n{a.scenario} world={world} seeds {seeds[0]}..{seeds[-1]} (n = {len(seeds)})")
     print("| strategy | mean steps ± 95 % | found % | mean steps found | Δ vs " + base + " (paired) ± 95 % | Δ % "

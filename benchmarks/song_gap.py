@@ -18,7 +18,6 @@ See benchmarks/song_gap.md for the findings.
 from __future__ import annotations
 
 import argparse
-import hashlib
 import json
 import tempfile
 import time
@@ -27,6 +26,8 @@ from pathlib import Path
 
 import numpy as np
 import yaml
+
+from seed_cache import cached_seeds
 
 
 def corners(side, inset=0.0):
@@ -171,24 +172,12 @@ def ci(x):
 
 def collect(side, names, strategies, seeds, out, workers):
     results = {}
-    for name in names:
-        spec = resolve(name, side)
-        for strat in strategies:
-            key = json.dumps([side, spec, strat], sort_keys=True)
-            f = out / (hashlib.sha1(key.encode()).hexdigest()[:16] + ".jsonl")
-            done = {}
-            if f.exists():
-                for line in f.read_text().splitlines():
-                    r = json.loads(line)
-                    done[r["seed"]] = r
-            todo = [(side, spec, strat, s) for s in seeds if s not in done]
-            if todo:
-                with Pool(workers) as pool, f.open("a") as fh:
-                    for r in pool.imap_unordered(_one, todo, chunksize=2):
-                        done[r["seed"]] = r
-                        fh.write(json.dumps(r) + "\n")
-                        fh.flush()
-            results[name, strat] = [done[s] for s in seeds]
+    with Pool(workers) as pool:
+        for name in names:
+            spec = resolve(name, side)
+            for strat in strategies:
+                results[name, strat] = cached_seeds(out, [side, spec, strat], seeds, _one,
+                                                    lambda s: (side, spec, strat, s), pool)
     return results
 
 
