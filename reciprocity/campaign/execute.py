@@ -102,7 +102,10 @@ def dask_client(workers: int | None = None, scheduler: str | None = None, *,
     n = workers if workers is not None else (os.cpu_count() or 1)
     if n < 1:
         raise SearchError(f"--workers must be at least 1; got {n}")
+    # no dashboard; the scheduler's health/metrics HTTP server on a free port (its default,
+    # 8787, warns "already in use" as soon as two campaigns or test workers run at once)
     with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                      scheduler_kwargs={"dashboard_address": ":0"},
                       silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
         yield client
 
