@@ -48,12 +48,16 @@ from .base import SearchContext, Status, Strategy
 
 __all__ = ["PlumeSearch", "Infotaxis", "FreeEnergyInfotaxis", "MaplessInfotaxis", "Entrotaxis",
            "SpaceAwareInfotaxis", "VoIInfotaxis", "candidate_moves", "make_belief", "posterior_entropies",
-           "turn_inward", "walker_proposal"]
+           "turn_inward", "walker_proposal", "MIN_PARTICLES"]
 
 #: otto's tie tolerance between scores.
 TIE = 1e-10
 #: Steps between stored particle snapshots (figures).
 SNAPSHOT_EVERY = 10
+
+
+#: Fewest particles a plume searcher accepts (fewer cannot represent a posterior).
+MIN_PARTICLES = 10
 
 
 def _positive(name, v, *, integer=False):
@@ -205,6 +209,9 @@ class PlumeSearch(Strategy):
     def __init__(self, *, particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1,
                  eta: float = 1e-3):
         self.n_particles = _positive("particles", particles, integer=True)
+        if self.n_particles < MIN_PARTICLES:
+            raise SearchError(f"particles must be at least {MIN_PARTICLES} (papers/002 uses 600); "
+                              f"got {particles!r}")
         self.resample_below = _positive("resample_below", resample_below)
         if self.resample_below >= 1:
             raise SearchError(f"resample_below must lie in (0, 1); got {resample_below!r}")

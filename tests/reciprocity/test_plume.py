@@ -206,7 +206,8 @@ def test_start_on_the_source_is_refused():
     assert "\n" not in str(exc.value)
 
 
-@pytest.mark.parametrize("params, match", [({"particles": 0}, "particles"), ({"share": "some"}, "share"),
+@pytest.mark.parametrize("params, match", [({"particles": 0}, "particles"), ({"particles": 9}, "at least 10"),
+                                           ({"share": "some"}, "share"),
                                            ({"alpha": -1}, "alpha")])
 def test_bad_strategy_parameters(params, match):
     name = "voi" if "share" in params else ("free-energy" if "alpha" in params else "infotaxis")
