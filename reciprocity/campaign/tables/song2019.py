@@ -119,7 +119,7 @@ SONG2019_HALFSTEP = register(PaperTable(
     note=("A HYPOTHESIS, not the paper's stated set-up: steps of 0.5 (the wind speed, which "
           "the paper also calls V), turns of at most ±15° (the turning radius of the ±30° "
           "table), source and start 5 units from the top-left and bottom-right corners. "
-          "It is the one change that takes infotaxis from 43 % to 78-96 % of the paper's "
+          "It is the one change that takes infotaxis from 40-45 % to 78-97 % of the paper's "
           "times at 100²-300² (benchmarks/song_gap.md); it does not repair free energy on "
           "wide areas (the printed α leaves its temperature inert). Mean steps over the runs "
           "that found the source."),
