@@ -135,7 +135,11 @@ class Scenario:
         return self.params.get("arena")
 
     def with_world(self, overrides: dict | None) -> "Scenario":
-        """A copy with world parameters (and ``start``) overridden, validated."""
+        """A copy with world parameters (and ``start``) overridden, validated.
+
+        ``start`` is ``(x, y[, heading])`` with the heading in **radians**, like every angle
+        of the Python API (scenario files write it in degrees).
+        """
         if not overrides:
             return self
         over = dict(overrides)

@@ -12,7 +12,7 @@ from reciprocity.campaign.spec import entry_scenario
 from reciprocity.campaign.store import episodes_sql
 from reciprocity.cli import main
 from reciprocity.errors import SearchError
-from reciprocity.scenarios import scenario_names
+from reciprocity.scenarios import load_scenario, scenario_names
 from reciprocity.strategies import STRATEGIES
 
 #: The tables DESIGN.md's public contract names.
@@ -53,11 +53,11 @@ def test_the_papers_numbers_and_settings():
     half = TABLES["song2019-table1-halfstep"]
     spec = half.spec(1)
     assert [s.label for s in spec.scenarios] == [f"song-{L}.halfstep" for L in (100, 150, 200, 250, 300, 350)]
-    assert spec.scenarios[0].world == {"max_turn": 15, "step": 0.5, "source": [-45.0, 45.0], "start": [45.0, -45.0, 90]}
     assert {pv.scenario for pv in half.paper} == {s.label for s in spec.scenarios}
-    assert [pv.value for pv in half.paper if pv.metric == "steps"] == [
-        pv.value for pv in TABLES["song2019-table1"].paper if pv.metric == "steps"]
-    assert "HYPOTHESIS" in half.note
+    # the run starts 5 in from the bottom-right corner heading +y (overrides are in radians)
+    sc = load_scenario("song-100").with_world(spec.scenarios[0].world)
+    assert np.allclose(sc.starts[0], [45.0, -45.0, np.pi / 2])
+    assert sc.params["step"] == 0.5 and sc.params["max_turn"] == 15
     otto = {pv.variant: (pv.value, pv.pm) for pv in TABLES["otto-2d"].paper if pv.metric == "steps"}
     assert otto == {"infotaxis": (11.72, 0.45), "space-aware-infotaxis": (11.52, 0.45)}
     assert TABLES["otto-2d"].default_runs >= 1000
