@@ -19,7 +19,8 @@ A specification is a YAML mapping (read with ``yaml.safe_load``)::
       - paper                      # a built-in name or a YAML file (relative to the spec)
       - name: maze
         label: maze-noisy          # optional: the name used in results (default: the name)
-        world: {noise: 20}         # optional: overrides of the world (mismatch options)
+        world: {noise: 20}         # optional: overrides of the world (mismatch options);
+                                   # a start heading here is in radians, unlike scenario files
         random_source: false       # optional: per scenario
       - name: farrell
         random_start: true         # optional: ignore the scenario's start (see below)
