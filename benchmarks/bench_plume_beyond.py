@@ -18,14 +18,13 @@ so re-running resumes.
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from multiprocessing import Pool
 from pathlib import Path
 
 import numpy as np
 
-from seed_cache import cached_seeds
+from plume_bench import cached_seeds, mean_ci, parse_strategy, parse_world
 
 
 def _one(job):
@@ -35,18 +34,6 @@ def _one(job):
     s = run(scenario, name, seed=seed, params=params, world=world).summary
     return dict(seed=seed, steps=int(s["steps"]), success=bool(s["success"]),
                 cpu=time.process_time() - c0, wall=time.time() - t0)
-
-
-def parse_strategy(text: str):
-    label, _, rest = text.partition("=") if "=" in text.split(":")[0] else (None, "", text)
-    name, _, js = rest.partition(":")
-    params = json.loads(js) if js else {}
-    return (label or (name if not params else f"{name}{json.dumps(params, sort_keys=True)}")), name, params
-
-
-def mean_ci(x):
-    x = np.asarray(x, dtype=float)
-    return x.mean(), 1.96 * x.std(ddof=1) / np.sqrt(len(x))
 
 
 def main(argv=None):
@@ -60,7 +47,7 @@ def main(argv=None):
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--out", default="out/plume_beyond")
     a = ap.parse_args(argv)
-    world = {k: json.loads(v) for k, v in (w.split("=", 1) for w in a.world)} or None
+    world = parse_world(a.world) or None
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     strategies = [parse_strategy(s) for s in a.strategy]

@@ -9,17 +9,20 @@ can take fewer steps on average.
     nice python benchmarks/plume_phases.py --scenario song-100 --world max_turn=30 --seeds 100 \
         --strategy free-energy --strategy lookahead --strategy infotaxis --strategy space-aware-infotaxis
 
-Strategies are ``name`` or ``name:{json params}``. Scenarios with a drawn source or a
-forced first hit (otto-2d) have no fixed bound; the script refuses them.
+Strategies are ``name`` or ``name:{json params}``; a start heading among the ``--world``
+overrides is in radians. Scenarios with a drawn source or a forced first hit (otto-2d)
+have no fixed bound; the script refuses them. Runs are cached per seed in ``--out``.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 from multiprocessing import Pool
+from pathlib import Path
 
 import numpy as np
+
+from plume_bench import cached_seeds, mean_ci, parse_strategy, parse_world
 
 
 def oracle_steps(start, heading_deg: float, source, *, step: float, max_turn_deg: float, radius: float,
@@ -55,16 +58,19 @@ def main(argv=None):
     ap.add_argument("--strategy", action="append", required=True)
     ap.add_argument("--seeds", type=int, default=100)
     ap.add_argument("--workers", type=int, default=1)
+    ap.add_argument("--out", default="out/plume_phases")
     a = ap.parse_args(argv)
     from reciprocity.scenarios import load_scenario
-    world = {k: json.loads(v) for k, v in (w.split("=", 1) for w in a.world)}
+    world = parse_world(a.world)
+    out = Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
     sc = load_scenario(a.scenario)
     w = dict(sc.params, **world)
     if isinstance(w.get("source"), str) or w.get("initial_hit") or sc.starts is None:
         ap.error(f"{a.scenario} draws its source, forces a first hit or has no fixed start: no fixed bound")
     src = np.array(w["source"], float)
-    start = np.array(world["start"], float) if "start" in world else np.array(sc.starts[0], float)
-    heading = float(np.degrees(start[2])) if "start" not in world else float(start[2])
+    start = np.array(sc.with_world(world).starts[0], float)        # heading in radians
+    heading = float(np.degrees(start[2]))
     bound = oracle_steps(start[:2], heading, src, step=float(w["step"]),
                          max_turn_deg=float(w["max_turn"]), radius=float(w["found_radius"]))
     d0 = float(np.hypot(*(start[:2] - src)))
@@ -74,16 +80,16 @@ def main(argv=None):
     print("|---|---|---|---|---|---|---|---|---|")
     with Pool(a.workers) as pool:
         for text in a.strategy:
-            name, _, js = text.partition(":")
-            params = json.loads(js) if js else {}
-            rs = pool.map(_one, [(a.scenario, world or None, name, params, s) for s in range(a.seeds)])
+            _, name, params = parse_strategy(text)
+            rs = cached_seeds(out, ["phases", a.scenario, world, name, params], range(a.seeds), _one,
+                              lambda s: (a.scenario, world or None, name, params, s), pool)
             ok = np.array([r["success"] for r in rs])
             st = np.array([r["steps"] for r in rs], float)[ok]
             first = np.array([r["first"] for r in rs], float)[ok]
             dist = np.array([np.hypot(*(np.array(r["at_first"]) - src)) for r in rs])[ok]
             prog = d0 - dist
             after = st - first
-            m, h = st.mean(), 1.96 * st.std(ddof=1) / np.sqrt(len(st))
+            m, h = mean_ci(st)
             print(f"| {text} | {m:.1f} ± {h:.1f} | {ok.sum()}/{len(ok)} | {m - bound:+.1f} | {first.mean():.1f} | "
                   f"{prog.mean():.1f} | {(first - prog).mean():.1f} | {after.mean():.1f} | "
                   f"{(after - (dist - float(w['found_radius']))).mean():.1f} |", flush=True)

@@ -1,4 +1,5 @@
-"""Why are our Song et al. (2019) Table 1 times 2-4x shorter? One set-up difference at a time.
+"""Why are our Song et al. (2019) Table 1 times shorter (infotaxis: 2.2-2.5x at 100²-300²)? One set-up
+difference at a time.
 
 Every variant is the scenario ``song-<side>`` with world overrides (``world``), strategy
 parameters (``params``, per strategy name or ``"*"`` for all), a step cap (``max_steps``)
@@ -19,20 +20,19 @@ from __future__ import annotations
 
 import argparse
 import json
-import tempfile
+import math
 import time
 from multiprocessing import Pool
 from pathlib import Path
 
 import numpy as np
-import yaml
 
-from seed_cache import cached_seeds
+from plume_bench import cached_seeds, mean_ci
 
 
 def corners(side, inset=0.0):
     h = side / 2 - inset
-    return {"source": [-h, h], "start": [h, -h, 90]}
+    return {"source": [-h, h], "start": [h, -h, math.pi / 2]}      # world overrides: radians
 
 
 #: name -> spec; ``world`` values may be callables of the side.
@@ -43,11 +43,11 @@ VARIANTS = {
     # -- geometry -------------------------------------------------------------------------
     "corners": {"world": lambda L: dict(max_turn=30, **corners(L))},
     "corners_in5": {"world": lambda L: dict(max_turn=30, **corners(L, 5))},
-    "head0": {"world": lambda L: dict(max_turn=30, start=[L / 3, -L / 3, 0])},
-    "head180": {"world": lambda L: dict(max_turn=30, start=[L / 3, -L / 3, 180])},
-    "head135": {"world": lambda L: dict(max_turn=30, start=[L / 3, -L / 3, 135])},
+    "head0": {"world": lambda L: dict(max_turn=30, start=[L / 3, -L / 3, 0.0])},
+    "head180": {"world": lambda L: dict(max_turn=30, start=[L / 3, -L / 3, math.pi])},
+    "head135": {"world": lambda L: dict(max_turn=30, start=[L / 3, -L / 3, 0.75 * math.pi])},
     # wind -y (Vergassola's direction): the mirror image of +x when the heading is mirrored too
-    "wind270_head180": {"world": lambda L: dict(max_turn=30, wind_direction=270, start=[L / 3, -L / 3, 180])},
+    "wind270_head180": {"world": lambda L: dict(max_turn=30, wind_direction=270, start=[L / 3, -L / 3, math.pi])},
     "wind270": {"world": {"max_turn": 30, "wind_direction": 270}},
     # searcher upwind of the source: the plume leaves the area
     "wind180": {"world": {"max_turn": 30, "wind_direction": 180}},
@@ -129,19 +129,14 @@ def _apply_patches(patches):
         I.make_belief = make_belief
 
 
-def _scenario_file(side: int, max_steps: int | None) -> str:
+def _scenario(side: int, max_steps: int | None):
+    """``song-<side>``, with another step cap where the variant sets one."""
     name = f"song-{side}"
     if max_steps is None:
         return name
-    from importlib import resources
-    src = resources.files("reciprocity") / "data" / "scenarios" / f"{name}.yaml"
-    data = yaml.safe_load(src.read_text())
-    data["max_steps"] = int(max_steps)
-    d = Path(tempfile.gettempdir()) / "song_gap_scenarios"
-    d.mkdir(exist_ok=True)
-    f = d / f"{name}-cap{max_steps}.yaml"
-    f.write_text(yaml.safe_dump(data))
-    return str(f)
+    from dataclasses import replace
+    from reciprocity.scenarios import load_scenario
+    return replace(load_scenario(name), max_steps=int(max_steps))
 
 
 _PATCHED = None
@@ -156,29 +151,28 @@ def _one(job):
     assert _PATCHED == tuple(spec["patch"]), "one patch set per worker pool"
     from reciprocity.api import run
     params = dict(spec["params"].get("*", {}), **spec["params"].get(strategy, {}))
-    t0, c0 = time.time(), time.process_time()
-    s = run(_scenario_file(side, spec["max_steps"]), strategy, seed=seed, params=params,
+    c0 = time.process_time()
+    s = run(_scenario(side, spec["max_steps"]), strategy, seed=seed, params=params,
             world=spec["world"]).summary
     return dict(seed=seed, steps=int(s["steps"]), success=bool(s["success"]),
                 cpu=time.process_time() - c0)
 
 
-def ci(x):
-    x = np.asarray(x, float)
-    if len(x) < 2:
-        return float(x.mean()) if len(x) else float("nan"), float("nan")
-    return float(x.mean()), float(1.96 * x.std(ddof=1) / np.sqrt(len(x)))
-
 
 def collect(side, names, strategies, seeds, out, workers):
+    """Results per (variant, strategy); one worker pool per set of patches (a patch
+    changes a worker's modules for good)."""
+    specs = {name: resolve(name, side) for name in names}
     results = {}
-    with Pool(workers) as pool:
-        for name in names:
-            spec = resolve(name, side)
-            for strat in strategies:
-                results[name, strat] = cached_seeds(out, [side, spec, strat], seeds, _one,
-                                                    lambda s: (side, spec, strat, s), pool)
-    return results
+    for patch in sorted({tuple(sp["patch"]) for sp in specs.values()}):
+        with Pool(workers) as pool:
+            for name, spec in specs.items():
+                if tuple(spec["patch"]) != patch:
+                    continue
+                for strat in strategies:
+                    results[name, strat] = cached_seeds(out, [side, spec, strat], seeds, _one,
+                                                        lambda s: (side, spec, strat, s), pool)
+    return {(n, st): results[n, st] for n in names for st in strategies}
 
 
 def main(argv=None):
@@ -210,10 +204,10 @@ def main(argv=None):
             rs = res[name, strat]
             st = np.array([r["steps"] for r in rs], float)
             ok = np.array([r["success"] for r in rs])
-            m, h = ci(st)
-            d, dh = ci(st - bs)
+            m, h = mean_ci(st)
+            d, dh = mean_ci(st - bs)
             both = ok & bok
-            d2, d2h = ci(st[both] - bs[both])
+            d2, d2h = mean_ci(st[both] - bs[both])
             mf = st[ok].mean() if ok.any() else float("nan")
             cpu = np.mean([r["cpu"] for r in rs])
             print(f"| {name} | {strat} | {m:.1f} ± {h:.1f} | {100 * ok.mean():.0f} | {mf:.1f} | "

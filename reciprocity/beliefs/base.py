@@ -18,7 +18,10 @@ from scipy.special import logsumexp
 from ..models.base import NoiseModel
 from ..observations import Observation
 
-__all__ = ["Belief", "Predictive", "shannon_entropy"]
+__all__ = ["Belief", "Predictive", "shannon_entropy", "MIN_PARTICLES"]
+
+#: Fewest particles a particle belief is built with (fewer cannot represent a posterior).
+MIN_PARTICLES = 10
 
 
 def shannon_entropy(weights: np.ndarray) -> float:

@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..beliefs.base import MIN_PARTICLES
 from ..beliefs.particles import ParticleBelief, grid_particles
 from ..errors import SearchError
 from ..intents import Move, Stay
@@ -48,16 +49,12 @@ from .base import SearchContext, Status, Strategy
 
 __all__ = ["PlumeSearch", "Infotaxis", "FreeEnergyInfotaxis", "MaplessInfotaxis", "Entrotaxis",
            "SpaceAwareInfotaxis", "VoIInfotaxis", "candidate_moves", "make_belief", "posterior_entropies",
-           "turn_inward", "walker_proposal", "MIN_PARTICLES"]
+           "turn_inward", "walker_proposal"]
 
 #: otto's tie tolerance between scores.
 TIE = 1e-10
 #: Steps between stored particle snapshots (figures).
 SNAPSHOT_EVERY = 10
-
-
-#: Fewest particles a plume searcher accepts (fewer cannot represent a posterior).
-MIN_PARTICLES = 10
 
 
 def _positive(name, v, *, integer=False):
@@ -210,7 +207,7 @@ class PlumeSearch(Strategy):
                  eta: float = 1e-3):
         self.n_particles = _positive("particles", particles, integer=True)
         if self.n_particles < MIN_PARTICLES:
-            raise SearchError(f"particles must be at least {MIN_PARTICLES} (papers/002 uses 600); "
+            raise SearchError(f"particles must be at least {MIN_PARTICLES} (Song et al. 2019 use 600); "
                               f"got {particles!r}")
         self.resample_below = _positive("resample_below", resample_below)
         if self.resample_below >= 1:

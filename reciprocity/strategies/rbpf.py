@@ -14,6 +14,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import shortest_path
 from scipy.special import logsumexp
 
+from ..beliefs.base import MIN_PARTICLES
 from ..beliefs.rbpf import RBPFBelief
 from ..errors import SearchError
 from ..intents import Move, Stay
@@ -24,8 +25,6 @@ from .base import SearchContext, Status, Strategy
 
 __all__ = ["RBPFStrategy", "RBPFInfotaxisStrategy", "MIN_PARTICLES"]
 
-#: Fewest particles accepted.
-MIN_PARTICLES = 10
 
 
 @register

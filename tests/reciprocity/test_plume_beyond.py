@@ -195,18 +195,21 @@ def test_bad_plume_imaging_parameters(params, match):
 
 
 # -- the bound of benchmarks/plume_phases.py -----------------------------------------------------
-def _phases_module():
+def _phases_module(monkeypatch):
     import importlib.util
+    import sys
     from pathlib import Path
-    path = Path(__file__).resolve().parents[2] / "benchmarks" / "plume_phases.py"
-    spec = importlib.util.spec_from_file_location("plume_phases", path)
+    bench = Path(__file__).resolve().parents[2] / "benchmarks"
+    monkeypatch.syspath_prepend(str(bench))          # its shared helpers (plume_bench)
+    spec = importlib.util.spec_from_file_location("plume_phases", bench / "plume_phases.py")
     mod = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(sys.modules, "plume_phases", mod)     # its workers unpickle by name
     spec.loader.exec_module(mod)
     return mod
 
 
-def test_phase_bound_is_the_straight_walk_and_grows_with_the_turn_limit():
-    oracle = _phases_module().oracle_steps
+def test_phase_bound_is_the_straight_walk_and_grows_with_the_turn_limit(monkeypatch):
+    oracle = _phases_module(monkeypatch).oracle_steps
     # heading already at the source: ceil(d - R) unit steps
     assert oracle([0, 0], 0.0, [10, 0], step=1.0, max_turn_deg=30, radius=3.0) == 7
     # facing away: the U-turn costs steps; a tighter turn limit costs more
@@ -215,3 +218,14 @@ def test_phase_bound_is_the_straight_walk_and_grows_with_the_turn_limit():
     assert 7 + 5 <= wide < tight
     # song-100 with 30 degree turns: 94.3 apart, start heading 90 degrees, 45 off the line
     assert oracle([33.33, -33.33], 90.0, [-33.33, 33.33], step=1.0, max_turn_deg=30, radius=3.0) == 92
+
+
+def test_phase_report_takes_a_start_override_in_radians(monkeypatch, tmp_path, capsys):
+    mod = _phases_module(monkeypatch)
+    # facing away from the source (-45 degrees, given in radians like every world override)
+    mod.main(["--scenario", "song-100", "--world", "max_turn=30", "--world", f"start=[33.33,-33.33,{-np.pi / 4}]",
+              "--strategy", "lookahead", "--seeds", "1", "--out", str(tmp_path)])
+    away = mod.oracle_steps([33.33, -33.33], -45.0, [-33.33, 33.33], step=1.0, max_turn_deg=30, radius=3.0)
+    out = capsys.readouterr().out
+    assert f"bound (knows the source) {away} steps" in out and away > 92
+    assert "| lookahead |" in out
