@@ -22,23 +22,25 @@ Other differences, measured with the former runner (2026-11-23):
   at 100², and it self-traps on wide areas as the paper's own T = 0 case (Fig. 6).
 - The paper prints no rate formula, wind direction or coordinates for Table 1. Measured
   one difference at a time (``benchmarks/song_gap.md``, 40 paired seeds at 100²): source
-  and start 5 units in from the true corners +30 ± 12 steps (infotaxis) / +47 ± 12 (free
+  and start 5 units in from the true corners +32 ± 12 steps (infotaxis) / +56 ± 25 (free
   energy); start heading, wind sign and filter choices (particles, prior, MCMC moves,
   the visited-place exclusion) each ≤ 20 %; a lower hit rate lengthens infotaxis only
   below Q0·Δt ≈ 0.1 and makes free energy self-trap first, so it cannot explain both
-  columns. The ratio paper/ours for infotaxis is constant (2.33, 2.47, 2.28 at 100²,
-  200², 300²), as a different length per step would give: with steps of 0.5 (the wind
+  columns. The ratio paper/ours for infotaxis is about constant (2.2–2.5 at 100²–300²,
+  100 runs), as a different length per step would give: with steps of 0.5 (the wind
   speed, which the paper also calls V), ±15° turns (the same turning radius) and corners
-  5 in, infotaxis takes 360 / 768 / 1170 against the paper's 377 / 990 / 1419, and free
-  energy 324 / 731 against 336 / 821 (300²: 2565, self-trapped). That setting is a
+  5 in, infotaxis takes 367 / 561 / 770 / 971 / 1175 against the paper's 377 / 641 /
+  990 / 1157 / 1419 (100²–300², 100 runs), and free energy 287 / 483 / 775 against 336 /
+  484 / 821 (100²–200²; self-trapped from 250²). That setting is a
   hypothesis about the authors' code, not the paper's text: it is the separate table
   ``song2019-table1-halfstep``, and the default table keeps the stated set-up.
 - The printed α makes the temperature inert: T = 0 gives the same runs (Δ −0.6 ± 2.1
   steps at 100²), whereas the paper's Fig. 6 has T = 0 failing. This is why our free
   energy self-traps on wide areas (and at every reduced hit rate) where the paper's does
   not; no set-up difference measured repairs it (α = 10⁴ alone: 300² found 95 %).
-- Still unexplained: the last 18–22 % of infotaxis at 200²–300² under the half-step
-  hypothesis, free energy from 250² on, and how the paper's ±3° runs all end.
+- Still unexplained: the last 13–22 % of infotaxis at 150²–300² under the half-step
+  hypothesis (36 % at 350², where the paper's times jump 1.5× for a side 1.17× longer),
+  free energy from 250² on, and how the paper's ±3° runs all end.
 """
 
 from __future__ import annotations
@@ -122,7 +124,7 @@ SONG2019_HALFSTEP = register(PaperTable(
     note=("A HYPOTHESIS, not the paper's stated set-up: steps of 0.5 (the wind speed, which "
           "the paper also calls V), turns of at most ±15° (the turning radius of the ±30° "
           "table), source and start 5 units from the top-left and bottom-right corners. "
-          "It is the one change that takes infotaxis from 40-45 % to 78-97 % of the paper's "
+          "It is the one set-up we found that takes infotaxis from 40-45 % to 78-97 % of the paper's "
           "times at 100²-300² (benchmarks/song_gap.md); it does not repair free energy on "
           "wide areas (the printed α leaves its temperature inert). Mean steps over the runs "
           "that found the source."),
