@@ -20,7 +20,8 @@ A specification is a YAML mapping (read with ``yaml.safe_load``)::
       - name: maze
         label: maze-noisy          # optional: the name used in results (default: the name)
         world: {noise: 20}         # optional: overrides of the world (mismatch options);
-                                   # a start heading here is in radians, unlike scenario files
+                                   # start: [x, y, heading] with the heading in degrees,
+                                   # as in scenario files
         random_source: false       # optional: per scenario
       - name: farrell
         random_start: true         # optional: ignore the scenario's start (see below)
@@ -59,7 +60,8 @@ from ..errors import SearchError
 from ..scenarios import Scenario, load_scenario, scenario_names
 
 __all__ = ["CampaignSpec", "ScenarioEntry", "StrategyVariant", "EpisodeTask", "load_spec",
-           "parse_spec", "episode_seed", "entry_scenario", "SOURCE_CLEARANCE", "START_CLEARANCE"]
+           "parse_spec", "episode_seed", "entry_scenario", "world_overrides", "SOURCE_CLEARANCE",
+           "START_CLEARANCE"]
 
 #: Minimum wall distance of a drawn source, cm: closer to a Dirichlet wall the signal is
 #: buried in the noise everywhere.
@@ -457,6 +459,36 @@ def _resolve_scenario(name: str, base_dir: Path) -> tuple[str, str | None]:
         raise SearchError(f"unknown scenario {name!r} in the campaign spec: not a built-in "
                           f"({', '.join(scenario_names())}) nor a file")
     return str(path.resolve()), hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def world_overrides(world: Mapping) -> dict:
+    """A spec's ``world:`` overrides as the Python API takes them.
+
+    A spec is a file format, so a ``start`` heading in it is in degrees, as in scenario
+    files; :meth:`reciprocity.scenarios.Scenario.with_world` takes radians.
+
+    Parameters
+    ----------
+    world : mapping
+        The ``world`` of a :class:`ScenarioEntry`.
+
+    Returns
+    -------
+    dict
+        The same overrides, a start heading converted to radians.
+    """
+    def pose(p):
+        if isinstance(p, (list, tuple)) and len(p) == 3 and not isinstance(p[0], (list, tuple)):
+            return [p[0], p[1], float(np.radians(float(p[2])))]
+        return p                       # (x, y) or malformed: with_world says what is wrong
+
+    out = dict(world)
+    start = out.get("start")
+    if isinstance(start, (list, tuple)) and start and isinstance(start[0], (list, tuple)):
+        out["start"] = [pose(p) for p in start]
+    elif start is not None:
+        out["start"] = pose(start)
+    return out
 
 
 def entry_scenario(entry: ScenarioEntry, scenario: Scenario | None = None) -> Scenario:

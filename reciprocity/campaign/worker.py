@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..scenarios import Scenario, load_scenario
-from .spec import SOURCE_CLEARANCE, START_CLEARANCE, EpisodeTask, entry_scenario
+from .spec import SOURCE_CLEARANCE, START_CLEARANCE, EpisodeTask, entry_scenario, world_overrides
 
 __all__ = ["run_task", "execute_task", "failure_row", "scenario", "world_draw",
            "cache_stats"]
@@ -86,7 +86,7 @@ def execute_task(task: EpisodeTask):
     """
     from .. import api
     sc = entry_scenario(task.scenario, scenario(task.scenario.ref))
-    world = dict(task.scenario.world)
+    world = world_overrides(task.scenario.world)          # a start heading: degrees -> radians
     if task.scenario.random_source:
         world.update(world_draw(sc, task.seed))
     return api.execute(sc, task.variant.strategy, seed=task.seed, params=dict(task.variant.params),

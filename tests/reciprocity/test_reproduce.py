@@ -8,7 +8,7 @@ import pytest
 from reciprocity.campaign import parse_spec
 from reciprocity.campaign.reproduce import (TABLES, PaperTable, PaperValue, compare,
                                             comparison_markdown, reproduce)
-from reciprocity.campaign.spec import entry_scenario
+from reciprocity.campaign.spec import entry_scenario, world_overrides
 from reciprocity.campaign.store import episodes_sql
 from reciprocity.cli import main
 from reciprocity.errors import SearchError
@@ -54,8 +54,8 @@ def test_the_papers_numbers_and_settings():
     spec = half.spec(1)
     assert [s.label for s in spec.scenarios] == [f"song-{L}.halfstep" for L in (100, 150, 200, 250, 300, 350)]
     assert {pv.scenario for pv in half.paper} == {s.label for s in spec.scenarios}
-    # the run starts 5 in from the bottom-right corner heading +y (overrides are in radians)
-    sc = load_scenario("song-100").with_world(spec.scenarios[0].world)
+    # the run starts 5 in from the bottom-right corner heading +y (degrees in a spec)
+    sc = load_scenario("song-100").with_world(world_overrides(spec.scenarios[0].world))
     assert np.allclose(sc.starts[0], [45.0, -45.0, np.pi / 2])
     assert sc.params["step"] == 0.5 and sc.params["max_turn"] == 15
     otto = {pv.variant: (pv.value, pv.pm) for pv in TABLES["otto-2d"].paper if pv.metric == "steps"}

@@ -45,8 +45,6 @@ Other differences, measured with the former runner (2026-11-23):
 
 from __future__ import annotations
 
-import math
-
 from ..reproduce import PaperTable, PaperValue, register
 
 __all__ = ["SONG2019_TABLE1", "SONG2019_HALFSTEP", "SONG_TABLE1", "SONG_SCALES", "SONG_MAX_TURN",
@@ -75,9 +73,10 @@ def halfstep_world(side: int) -> dict:
     """World overrides of the half-step hypothesis for ``song-<side>`` (lengths in the
     paper's units): steps of 0.5, turns of at most ±15° (the ±30° table's turning
     radius), source and start 5 units in from the top-left and bottom-right corners, the
-    start heading +y (world overrides take radians; scenario files take degrees)."""
+    start heading +y (a campaign spec's world overrides, like scenario files, give it in
+    degrees)."""
     h = side / 2 - 5
-    return {"max_turn": 15, "step": 0.5, "source": [-h, h], "start": [h, -h, math.pi / 2]}
+    return {"max_turn": 15, "step": 0.5, "source": [-h, h], "start": [h, -h, 90]}
 
 
 def _halfstep_spec(runs: int) -> dict:
