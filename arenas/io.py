@@ -12,7 +12,8 @@ File format (all lengths in cm, the start heading in degrees)::
     strength: 850           # optional source strength c (default 850)
     start: [128, 12, 135]            # optional start: x, y[, heading in degrees]
 
-Files are read with ``yaml.safe_load``: no Python objects can be constructed.
+Files are read by the strict loader of :mod:`arenas.files`: safe YAML (no Python objects),
+at most 1 MB of UTF-8 text, no duplicate keys, aliases capped.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ import numpy as np
 import yaml
 
 from .errors import ArenaError
+from .files import load_yaml
 from .geometry import DEFAULT_STRENGTH, Arena
 
 __all__ = ["load", "save", "builtin_names", "from_dict", "to_dict", "DEFAULT_STRENGTH"]
@@ -84,12 +86,7 @@ def load(name_or_path) -> Arena:
 
 
 def _read_yaml(src, label: str) -> dict:
-    try:
-        data = yaml.safe_load(src.read_text())
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ArenaError(f"cannot read arena file {label!r}: {exc}") from exc
-    except yaml.YAMLError as exc:
-        raise ArenaError(f"arena file {label!r} is not valid YAML: {exc}") from exc
+    data = load_yaml(src, f"arena file {label!r}")
     if not isinstance(data, dict):
         raise ArenaError(f"arena file {label!r} must hold a mapping with a 'boundary' or "
                          f"'disk' key; got {type(data).__name__}")

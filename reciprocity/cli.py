@@ -9,10 +9,9 @@ import os
 import sys
 from pathlib import Path
 
-import yaml
-
 import arenas
 from arenas import ArenaError
+from arenas.files import parse_yaml
 
 from .api import check, execute, strategy_parameters
 from .errors import ReciprocityError
@@ -33,13 +32,25 @@ def _floats(text: str, what: str, sizes: tuple[int, ...]) -> list[float]:
     return vals
 
 
+def _pairs(item: str) -> list[str]:
+    """``a=1,b=2`` as ``["a=1", "b=2"]``; ``a=1,2`` (a value with a comma) stays whole."""
+    pieces = item.split(",")
+    return pieces if len(pieces) > 1 and all("=" in p for p in pieces) else [item]
+
+
 def _params(items: list[str], flag: str = "--set", example: str = "eps=0.1") -> dict:
+    """KEY=VALUE flags (repeated, or comma-joined as ``a=1,b=2``) as a mapping; each value
+    is read as YAML (numbers, booleans, lists), strictly."""
     out = {}
-    for item in items:
+    for item in (p for it in items for p in _pairs(it)):
         if "=" not in item:
             raise ReciprocityError(f"{flag} expects KEY=VALUE (e.g. {flag} {example}); got {item!r}")
-        key, value = item.split("=", 1)
-        out[key.strip()] = yaml.safe_load(value)
+        key, value = (s.strip() for s in item.split("=", 1))
+        if not key:
+            raise ReciprocityError(f"{flag} expects KEY=VALUE with a key (e.g. {flag} {example}); got {item!r}")
+        if key in out:
+            raise ReciprocityError(f"{flag} {key} is given twice; give each key once")
+        out[key] = parse_yaml(value, f"{flag} {key}", error=ReciprocityError)
     return out
 
 
@@ -273,8 +284,8 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed, a whole number >= 0 (default 0)")
     p.add_argument("--mismatch", action="append", default=[], metavar="KEY=VALUE",
                    help="make the true world differ from what the strategy is told, e.g. "
-                        "--mismatch strength_factor=1.2, wall_shift=0.3 (cm), noise_factor=2, "
-                        "paint_gamma=0.8 (car floor)")
+                        "--mismatch strength_factor=1.2,wall_shift=0.3 (repeatable or comma-joined; "
+                        "keys: strength_factor, wall_shift in cm, noise_factor, paint_gamma for the car floor)")
     p.add_argument("--noise", type=float, default=None,
                    help="point observer: noise std, signal units (default 12); the car's sensor has "
                         "its own noise, 12 ADC counts")

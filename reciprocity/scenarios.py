@@ -27,9 +27,8 @@ from pathlib import Path
 from typing import Callable
 
 import numpy as np
-import yaml
-
 import arenas
+from arenas.files import load_yaml
 
 from .errors import SearchError
 from .registry import LazyRegistry
@@ -205,16 +204,23 @@ def scenario_description(name: str) -> str:
 
 
 def _read(src, label: str) -> dict:
-    try:
-        data = yaml.safe_load(src.read_text())
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SearchError(f"cannot read scenario file {label!r}: {exc}") from None
-    except yaml.YAMLError as exc:
-        raise SearchError(f"scenario file {label!r} is not valid YAML: {str(exc).splitlines()[0]}") from None
+    """The mapping of a scenario file, or of a plain arena file as a ``poisson`` scenario."""
+    data = load_yaml(src, f"scenario file {label!r}", error=SearchError)
+    if isinstance(data, dict) and "world" not in data and ("boundary" in data or "disk" in data):
+        return _arena_scenario(data, src, label)
     if not isinstance(data, dict) or "world" not in data:
         raise SearchError(f"scenario file {label!r} must be a mapping with a 'world:' kind "
-                          f"({', '.join(WORLD_KINDS)})")
+                          f"({', '.join(WORLD_KINDS)}), or an arena file with 'boundary:' or 'disk:'")
     return data
+
+
+def _arena_scenario(data: dict, src, label: str) -> dict:
+    """A plain arena file (boundary, obstacles, source, strength, start) as a poisson scenario."""
+    arena = dict(data)
+    name = str(arena.get("name") or Path(str(src)).stem)
+    arena["name"] = name
+    return {"world": "poisson", "arena": arena, "name": name,
+            "description": str(arena.pop("description", f"arena file {label}"))}
 
 
 def from_dict(data: dict, name: str = "scenario") -> Scenario:
