@@ -24,7 +24,7 @@ from yaml.nodes import MappingNode, ScalarNode
 
 from .errors import ArenaError
 
-__all__ = ["MAX_FILE_BYTES", "MAX_ALIASES", "MAX_DEPTH", "MAX_EXPANDED_NODES", "read_text", "load_yaml", "parse_yaml"]
+__all__ = ["MAX_FILE_BYTES", "MAX_ALIASES", "MAX_DEPTH", "MAX_EXPANDED_NODES", "check_output", "read_text", "load_yaml", "parse_yaml"]
 
 #: Largest user file read, bytes (arena, scenario and campaign files are a few kB).
 MAX_FILE_BYTES = 1_000_000
@@ -170,3 +170,49 @@ def load_yaml(src, label: str, *, error: type[Exception] = ArenaError,
               max_bytes: int = MAX_FILE_BYTES):
     """Read and parse the YAML file `src` strictly (see :func:`read_text`, :func:`parse_yaml`)."""
     return parse_yaml(read_text(src, label, error=error, max_bytes=max_bytes), label, error=error)
+
+
+def check_output(path, label: str, *, folder: bool = False, error: type[Exception] = ArenaError) -> Path:
+    """Check, before any work, that an output can be written at `path`.
+
+    Nothing is created: the nearest existing ancestor must be a writable folder (probed
+    with a temporary file, so read-only mounts and ``/proc`` are caught), no ancestor may be
+    a file, and `path` itself must be a folder if `folder`, else not a folder.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output file, or folder when `folder` is true.
+    label : str
+        How messages name the output (e.g. ``"--json"``).
+    folder : bool
+        Whether `path` is a folder (created later, with its parents) or a file.
+    error : type
+        Exception class raised on a problem.
+
+    Returns
+    -------
+    Path
+        `path` as a :class:`~pathlib.Path`.
+    """
+    import tempfile
+    p = Path(path)
+    if not str(path).strip():
+        raise error(f"{label}: an empty path; give a file or folder name")
+    if p.exists():
+        if folder and not p.is_dir():
+            raise error(f"{label} {str(path)!r} is a file; give a folder")
+        if not folder and p.is_dir():
+            raise error(f"{label} {str(path)!r} is a folder; give a file name")
+    probe = p if (folder and p.is_dir()) else p.parent
+    while not probe.exists():
+        probe = probe.parent
+    if not probe.is_dir():
+        raise error(f"{label} {str(path)!r}: {str(probe)!r} is a file, so no folder can be made there")
+    try:
+        with tempfile.TemporaryFile(dir=probe):
+            pass
+    except OSError as exc:
+        raise error(f"{label} {str(path)!r}: cannot write into {str(probe)!r} "
+                    f"({exc.strerror or exc})") from None
+    return p

@@ -7,11 +7,12 @@ import json
 import math
 import os
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import arenas
 from arenas import ArenaError
-from arenas.files import parse_yaml
+from arenas.files import check_output, parse_yaml
 
 from .api import check, execute, strategy_parameters
 from .errors import ReciprocityError
@@ -174,21 +175,49 @@ def _world_overrides(args) -> dict:
     return world
 
 
+#: Largest seed accepted (numpy's SeedSequence takes any non-negative integer; 2**63 - 1
+#: keeps seeds exact in JSON, Parquet and every language that reads them).
+MAX_SEED = 2**63 - 1
+#: Most observers of one episode (the multi-agent papers use 2-5).
+MAX_AGENTS = 64
+#: Largest source strength c (the paper's is 850; a strength far beyond this overflows
+#: the sensor models and the imaging likelihood).
+MAX_STRENGTH = 1e6
+
+
 def _validate_common(args) -> None:
-    if args.seed < 0:
-        raise ReciprocityError(f"--seed must be a non-negative whole number; got {args.seed}")
+    if not 0 <= args.seed <= MAX_SEED:
+        raise ReciprocityError(f"--seed must be a whole number from 0 to {MAX_SEED}; got {args.seed}")
     if not math.isfinite(args.h) or not 0.2 <= args.h <= 20:
-        raise ReciprocityError(f"--h must be a mesh size in cm between 0.2 and 20; got {args.h!r}")
-    if args.noise is not None and (not math.isfinite(args.noise) or args.noise < 0):
-        raise ReciprocityError(f"--noise must be a non-negative number; got {args.noise!r}")
+        raise ReciprocityError(f"--h must be a mesh size in cm from 0.2 to 20; got {args.h!r}")
+    if args.noise is not None and (not math.isfinite(args.noise) or not 0 <= args.noise <= 1e6):
+        raise ReciprocityError(f"--noise must be a number from 0 to 1e6 (signal units); got {args.noise!r}")
+    if args.strength is not None and (not math.isfinite(args.strength) or not 0 < args.strength <= MAX_STRENGTH):
+        raise ReciprocityError(f"--strength must be a number in (0, {MAX_STRENGTH:g}]; got {args.strength!r}")
+    agents = getattr(args, "agents", None)
+    if agents is not None and not 1 <= agents <= MAX_AGENTS:
+        raise ReciprocityError(f"--agents must be a whole number from 1 to {MAX_AGENTS}; got {agents}")
 
 
-def _run_one(args, scenario: str, strategy: str, params: dict, out: Path | None):
-    """Validate everything (cheaply), then run one episode; figures into `out`."""
+@dataclass
+class _Planned:
+    """One episode, checked and ready to run: everything `execute` needs."""
+
+    scenario: object
+    strategy: str
+    params: dict
+    world: dict
+    platform: str | None
+    agents: int | None
+    options: dict
+
+
+def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
+    """Validate one episode's inputs cheaply (no meshing or solving)."""
     _validate_common(args)
     world = _world_overrides(args)
     params = dict(params)
-    if "h" in strategy_parameters(strategy) if strategy in STRATEGIES else False:
+    if strategy in STRATEGIES and "h" in strategy_parameters(strategy):
         params.setdefault("h", args.h)
     sc = load_scenario(scenario)
     if sc.world == "poisson":
@@ -198,21 +227,26 @@ def _run_one(args, scenario: str, strategy: str, params: dict, out: Path | None)
     if options and (platform or sc.platform) != "car":
         raise ReciprocityError("--car options need --platform car")
     agents = getattr(args, "agents", None)
-    check(sc, strategy, params=params, platform=platform, agents=agents, world=world,
-          platform_options=options)
-    prog = _progress(strategy) if not args.quiet else None
+    sc = check(sc, strategy, params=params, platform=platform, agents=agents, world=world,
+               platform_options=options)
+    return _Planned(sc, strategy, params, world, platform, agents, options)
+
+
+def _run_one(args, plan: _Planned, out: Path | None):
+    """Run one planned episode; figures and the trace into `out`."""
+    prog = _progress(plan.strategy) if not args.quiet else None
     try:
-        episode, strat, plats = execute(sc, strategy, seed=args.seed, params=params, platform=platform,
-                                        agents=agents, world=world, platform_options=options,
-                                        progress=prog)
+        episode, strat, plats = execute(plan.scenario, plan.strategy, seed=args.seed, params=plan.params,
+                                        platform=plan.platform, agents=plan.agents,
+                                        platform_options=plan.options, progress=prog)
     finally:
         if prog is not None:
             prog.close()
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-        episode.to_json(out / f"{strategy}_episode.json")
-        if sc.world == "poisson" and strategy in ("reciprocity", "gradient"):
-            arena = sc.with_world(world).arena
+        episode.to_json(out / f"{plan.strategy}_episode.json")
+        if plan.scenario.world == "poisson" and plan.strategy in ("reciprocity", "gradient"):
+            arena = plan.scenario.arena
             start = episode.summary["start"]
             _write_figures(out, episode, strat, plats[0], arena.with_scenario(start=start), video=args.video)
     return episode
@@ -223,37 +257,32 @@ def cmd_run(args) -> int:
         raise ReciprocityError("give exactly one of --arena NAME|FILE or --scenario NAME|FILE "
                                "(see `reciprocity arenas` and `reciprocity scenarios`)")
     scenario = args.arena if args.arena is not None else args.scenario
-    if args.arena is not None:
-        try:
-            arenas.load(args.arena)
-        except arenas.ArenaError as exc:
-            raise ReciprocityError(str(exc)) from None
-    out = Path(args.out) if args.out else None
-    if args.json:
-        _writable(Path(args.json).parent, "--json")
-    episode = _run_one(args, scenario, args.strategy, _params(args.set), out)
+    if args.arena is not None and args.arena not in arenas.builtin_names() and not Path(args.arena).exists():
+        raise ReciprocityError(f"--arena: no built-in arena or file named {args.arena!r}; built-ins are "
+                               f"{', '.join(arenas.builtin_names())} (or give the path of an arena YAML file)")
+    plan = _plan(args, scenario, args.strategy, _params(args.set))
+    if args.arena is not None and plan.scenario.world != "poisson":
+        raise ReciprocityError(f"--arena {args.arena!r} is a {plan.scenario.world} scenario, not an arena; "
+                               "give it with --scenario")
+    out = check_output(args.out, "--out", folder=True, error=ReciprocityError) if args.out else None
+    json_path = check_output(args.json, "--json", error=ReciprocityError) if args.json else None
+    episode = _run_one(args, plan, out)
+    if json_path is not None:  # written first: a result is never lost to the table below
+        json_path.parent.mkdir(parents=True, exist_ok=True)
+        json_path.write_text(episode.to_json(with_trace=False))
     print(_header(episode.summary["world"]))
     print(_summary_line(episode.summary))
-    if args.json:
-        Path(args.json).write_text(episode.to_json(with_trace=False))
     if out is not None:
         print(f"figures and the full trace are in {out}/")
     return 0
 
 
-def _writable(folder: Path, flag: str) -> None:
-    folder = folder if str(folder) else Path(".")
-    if folder.exists() and not os.access(folder, os.W_OK):
-        raise ReciprocityError(f"{flag}: cannot write into {folder}/ (permission denied)")
-
-
 def cmd_demo(args) -> int:
     args.set = []
-    out = Path(args.out)
-    _writable(out.parent, "--out")
-    rows = []
-    for name in ("reciprocity", "gradient"):
-        rows.append(_run_one(args, "paper", name, {}, out).summary)
+    plans = [_plan(args, "paper", name, {}) for name in ("reciprocity", "gradient")]
+    out = check_output(args.out, "--out", folder=True, error=ReciprocityError)
+    rows = [_run_one(args, plan, out).summary for plan in plans]
+    (out / "summary.json").write_text(json.dumps(rows, indent=1))
     src = rows[0]["source"]
     noise = ("sensor noise 12 ADC counts, 1 s dwell" if args.platform == "car"
              else f"noise sigma = {12.0 if args.noise is None else args.noise:g}")
@@ -267,7 +296,6 @@ def cmd_demo(args) -> int:
     print("for comparison, the paper's own testbed runs (Landa et al., one run each, not ours): "
           "reciprocity 7 measurements, error 4.35 cm; gradient 8 + 5 gradient measurements = "
           "18 samples, error 5.0 cm")
-    (out / "summary.json").write_text(json.dumps(rows, indent=1))
     print(f"figures, traces and summary.json are in {out}/")
     return 0
 

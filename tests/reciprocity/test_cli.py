@@ -36,7 +36,7 @@ def test_run_writes_summary_json_and_figures(tmp_path, capsys, pixels_near):
     (["run", "--arena", "paper", "--strategy", "reciprocity", "--set", "eps"], "KEY=VALUE"),
     (["run", "--arena", "paper", "--strategy", "reciprocity", "--set", "colour=3", "--h", "5"],
      "unknown parameter(s) colour for strategy 'reciprocity'; valid: "),
-    (["run", "--arena", "paper", "--strategy", "reciprocity", "--seed", "-1"], "--seed must be a non-negative"),
+    (["run", "--arena", "paper", "--strategy", "reciprocity", "--seed", "-1"], "--seed must be a whole number from 0"),
     (["run", "--arena", "paper", "--strategy", "spiral"], "unknown strategy 'spiral'; choose one of"),
     (["run", "--scenario", "nowhere", "--strategy", "gradient"], "no built-in scenario or file"),
     (["run", "--strategy", "gradient"], "give exactly one of --arena"),
@@ -90,3 +90,91 @@ def test_run_by_scenario_with_mismatch(tmp_path):
     s = json.loads(js.read_text())
     assert s["world"] == "poisson" and s["mismatch"]["strength_factor"] == 1.25
     assert s["stop"] in ("converged", "step cap", "no target") and "converged" in s
+
+
+README_ARENA = """\
+boundary: [[0, 0], [140, 0], [140, 140], [0, 140]]
+obstacles:
+  - [[40, 50], [46, 50], [46, 96], [94, 96], [94, 76], [100, 76], [100, 102], [40, 102]]
+source: [70.21, 70.21]
+strength: 850
+start: [128, 12, 135]
+"""
+
+
+@pytest.mark.parametrize("flag", ["--arena", "--scenario"])
+def test_a_plain_arena_file_runs(flag, tmp_path, monkeypatch, capsys):
+    """The README's arena file (no ``world:`` key) is a poisson scenario, by either flag;
+    its source and start are the episode's."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "my_arena.yaml").write_text(README_ARENA)
+    rc = main(["run", flag, "my_arena.yaml", "--strategy", "reciprocity", "--h", "3", "--quiet",
+               "--set", "max_steps=3", "--json", "s.json"])
+    assert rc == 0, capsys.readouterr().err
+    s = json.loads((tmp_path / "s.json").read_text())
+    assert s["arena"] == "my_arena" and s["world"] == "poisson"
+    assert s["source"] == [70.21, 70.21]
+    assert s["start"][:2] == [128.0, 12.0] and s["start"][2] == pytest.approx(3 * 3.141592653589793 / 4)
+
+
+def test_arena_flag_refuses_a_scenario_of_another_world(tmp_path, capsys):
+    from importlib import resources
+    song = tmp_path / "song.yaml"
+    song.write_text((resources.files("reciprocity") / "data" / "scenarios" / "song-100.yaml").read_text())
+    assert main(["run", "--arena", str(song), "--strategy", "infotaxis", "--quiet"]) == 2
+    assert "give it with --scenario" in capsys.readouterr().err
+    assert main(["run", "--arena", "song-100", "--strategy", "infotaxis", "--quiet"]) == 2
+    assert "no built-in arena or file named 'song-100'" in capsys.readouterr().err
+
+
+def test_comma_joined_options_equal_repeated_flags():
+    from reciprocity.cli import _params
+    assert _params(["strength_factor=1.2,wall_shift=0.3"], "--mismatch") == \
+        _params(["strength_factor=1.2", "wall_shift=0.3"], "--mismatch") == \
+        {"strength_factor": 1.2, "wall_shift": 0.3}
+    assert _params(["start=[1, 2]"]) == {"start": [1, 2]}
+    assert _params(["target=1,2"]) == {"target": "1,2"}  # a value with a comma stays whole
+
+
+@pytest.mark.parametrize("items, match", [
+    (["a=1", "a=2"], "given twice"),
+    (["=3"], "with a key"),
+    (["a={b: 1, b: 2}"], "duplicate key"),
+])
+def test_bad_key_value_flags(items, match):
+    from reciprocity.cli import _params
+    from reciprocity.errors import ReciprocityError
+    with pytest.raises(ReciprocityError, match=match):
+        _params(items)
+
+
+_BAD_OUT = [(["--out", "{tmp}/afile"], "is a file; give a folder"),
+            (["--out", "/proc/forbidden"], "cannot write into")]
+_BAD_JSON = [(["--json", "{tmp}"], "is a folder; give a file name"),
+             (["--json", "{tmp}/afile/x.json"], "is a file, so no folder can be made there")]
+
+
+@pytest.mark.parametrize("command, extra, match", [("run", *c) for c in _BAD_OUT + _BAD_JSON]
+                         + [("demo", *c) for c in _BAD_OUT])
+def test_outputs_are_checked_before_any_work(command, extra, match, tmp_path, monkeypatch, capsys):
+    """A bad output path is refused before the episode runs, and nothing is written."""
+    import reciprocity.cli as cli
+    monkeypatch.setattr(cli, "execute", lambda *a, **k: (_ for _ in ()).throw(AssertionError("ran")))
+    (tmp_path / "afile").write_text("x")
+    before = sorted(tmp_path.rglob("*"))
+    argv = [a.format(tmp=tmp_path) for a in extra]
+    if command == "run":
+        argv = ["run", "--arena", "paper", "--strategy", "reciprocity"] + argv
+    else:
+        argv = ["demo", "--platform", "point"] + argv
+    assert main(argv + ["--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("error: ") and match in err
+    assert sorted(tmp_path.rglob("*")) == before
+
+
+def test_json_folder_is_created_when_missing(tmp_path, capsys):
+    js = tmp_path / "new" / "deeper" / "s.json"
+    assert main(["run", "--arena", "empty", "--strategy", "reciprocity", "--h", "4", "--quiet",
+                 "--set", "max_steps=2", "--json", str(js)]) == 0
+    assert json.loads(js.read_text())["strategy"] == "reciprocity"
