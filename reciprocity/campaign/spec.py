@@ -79,7 +79,8 @@ from .cluster import TLSFiles, check_address
 
 __all__ = ["CampaignSpec", "ScenarioEntry", "StrategyVariant", "EpisodeTask", "load_spec",
            "parse_spec", "episode_seed", "entry_scenario", "world_overrides", "SOURCE_CLEARANCE",
-           "START_CLEARANCE", "MAX_SEEDS", "MAX_EPISODES", "MAX_PAIRS", "MAX_AGENTS", "LABEL"]
+           "START_CLEARANCE", "MAX_SEEDS", "MAX_SEED", "MAX_EPISODES", "MAX_PAIRS", "MAX_AGENTS",
+           "LABEL"]
 
 #: Minimum wall distance of a drawn source, cm: closer to a Dirichlet wall the signal is
 #: buried in the noise everywhere.

@@ -110,6 +110,15 @@ def read_meta(directory) -> dict:
     return meta
 
 
+def _refuse_foreign_folder(directory: Path) -> None:
+    """A folder with things in it but no campaign.json is someone else's: never write there
+    (only its top level is listed)."""
+    if not (directory / _META).exists() and any(
+            e.name != _LOCK for e in os.scandir(directory)):
+        raise SearchError(f"{str(directory)!r} holds other files and no {_META}: not a "
+                          "campaign folder; give a new or empty folder for --out")
+
+
 def _load_meta(directory: Path) -> dict:
     text = read_text(directory / _META, f"{_META} of {str(directory)!r}", error=SearchError,
                      max_bytes=MAX_META_BYTES)
@@ -341,6 +350,7 @@ class ResultStore:
         d = Path(directory)
         try:
             d.mkdir(parents=True, exist_ok=True)
+            _refuse_foreign_folder(d)
             lock = open(d / _LOCK, "a")
         except OSError as exc:
             raise SearchError(f"cannot write campaign results to {str(d)!r}: "
@@ -371,9 +381,6 @@ class ResultStore:
                     f"{spec.digest[:12]}); use another --out, or the spec (and --seed) that "
                     "made it")
             seeds = max(old.get("seeds", 0), spec.seeds)   # same hash: a file we wrote
-        elif any(e.name != _LOCK for e in os.scandir(self.directory)):
-            raise SearchError(f"{str(self.directory)!r} holds other files and no {_META}: not a "
-                              "campaign folder; give a new or empty folder for --out")
         else:
             seeds = spec.seeds
         text = json.dumps(dict(name=spec.name, spec_hash=spec.digest, seeds=seeds,
