@@ -2,6 +2,8 @@
 
 ``reciprocity.cli.build_parser`` calls :func:`add_commands`; every handler returns the
 exit code and raises :class:`reciprocity.errors.SearchError` on bad input (exit 2).
+Numbers and addresses are checked when the command line is parsed, output folders and
+the whole spec before any episode runs.
 """
 
 from __future__ import annotations
@@ -10,17 +12,56 @@ import argparse
 from pathlib import Path
 
 from ..errors import SearchError
+from .cluster import TLSFiles, check_address, max_workers
+from .outputs import check_output_dir
+from .spec import MAX_SEED, MAX_SEEDS
 
 __all__ = ["add_commands"]
 
 
+def _whole(text: str, lo: int, hi: int) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = None
+    if value is None or not lo <= value <= hi:
+        raise argparse.ArgumentTypeError(f"must be a whole number from {lo} to {hi}; got {text!r}")
+    return value
+
+
+def _workers(text: str) -> int:
+    return _whole(text, 1, max_workers())
+
+
+def _address(text: str) -> str:
+    try:
+        return check_address(text)
+    except SearchError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def _where(p: argparse.ArgumentParser) -> None:
     g = p.add_mutually_exclusive_group()
-    g.add_argument("--workers", type=int, metavar="N",
-                   help="local Dask worker processes, one thread each (default: one per core)")
-    g.add_argument("--scheduler", metavar="ADDRESS",
-                   help="address of a running Dask scheduler, e.g. tcp://host:8786")
+    g.add_argument("--workers", type=_workers, metavar="N",
+                   help=f"local Dask worker processes, one thread each, 1 to {max_workers()} "
+                   "(default: one per core)")
+    g.add_argument("--scheduler", type=_address, metavar="ADDRESS",
+                   help="address of a running Dask scheduler: tls://host:8786 with the --tls "
+                   "files, or tcp://host:8786 on a trusted network only")
+    p.add_argument("--tls-ca-file", metavar="PEM", help="CA certificate of a tls:// scheduler")
+    p.add_argument("--tls-cert", metavar="PEM", help="client certificate for a tls:// scheduler")
+    p.add_argument("--tls-key", metavar="PEM", help="client private key for a tls:// scheduler")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _tls(args) -> TLSFiles | None:
+    given = [args.tls_ca_file, args.tls_cert, args.tls_key]
+    if not any(given):
+        return None
+    if not all(given):
+        raise SearchError("give --tls-ca-file, --tls-cert and --tls-key together (PEM files of "
+                          "the CA, the client certificate and its key)")
+    return TLSFiles(*given)
 
 
 def _progress(args) -> bool | None:
@@ -46,9 +87,10 @@ def cmd_campaign(args) -> int:
     from .execute import run_campaign
     from .report import build_report
     from .spec import load_spec
+    check_output_dir(args.out, "--out")
     spec = load_spec(args.spec, seed=args.seed)
     result = run_campaign(spec, args.out, workers=args.workers, scheduler=args.scheduler,
-                          progress=_progress(args))
+                          tls=_tls(args), progress=_progress(args))
     print(_ran(result))
     print(build_report(args.out).markdown(), end="")
     print(f"figures: reciprocity report {args.out}")
@@ -58,8 +100,10 @@ def cmd_campaign(args) -> int:
 def cmd_report(args) -> int:
     """``reciprocity report DIR [--out DIR]``: tables (stdout, Markdown, CSV) and figures."""
     from .report import build_report, write_report
+    from .store import read_meta
+    read_meta(args.dir)
+    out = check_output_dir(args.out or Path(args.dir) / "report", "--out")
     report = build_report(args.dir)
-    out = Path(args.out) if args.out else Path(args.dir) / "report"
     write_report(report, args.dir, out)
     print(report.markdown(), end="")
     print(f"report.md, CSV tables and figures are in {out}/")
@@ -76,9 +120,10 @@ def cmd_reproduce(args) -> int:
         return 0
     if args.table is None:
         raise SearchError("name a table (reciprocity reproduce --list shows them)")
-    out = args.out or f"reproduce_{args.table}"
+    out = check_output_dir(args.out or f"reproduce_{args.table}", "--out")
     table, result, rows, files = reproduce(args.table, out, runs=args.runs, workers=args.workers,
-                                           scheduler=args.scheduler, progress=_progress(args))
+                                           scheduler=args.scheduler, tls=_tls(args),
+                                           progress=_progress(args))
     print(_ran(result))
     text = comparison_markdown(table, rows)
     (Path(out) / "comparison.md").write_text(text)
@@ -100,7 +145,8 @@ def add_commands(subparsers) -> None:
                               "results as Parquet (re-run to resume)")
     c.add_argument("spec", metavar="SPEC.yaml", help="campaign spec (see reciprocity.campaign.spec)")
     c.add_argument("--out", required=True, metavar="DIR", help="results folder")
-    c.add_argument("--seed", type=int, help="campaign seed (overrides the spec's)")
+    c.add_argument("--seed", type=lambda t: _whole(t, 0, MAX_SEED), metavar="N",
+                   help="campaign seed (overrides the spec's)")
     _where(c)
     c.set_defaults(func=cmd_campaign)
 
@@ -112,7 +158,8 @@ def add_commands(subparsers) -> None:
     p = subparsers.add_parser("reproduce", help="re-run a published table beside the paper's numbers")
     p.add_argument("table", nargs="?", metavar="TABLE", help="table name (see --list)")
     p.add_argument("--list", action="store_true", help="list the reproducible tables")
-    p.add_argument("--runs", type=int, metavar="N", help="runs per strategy (default: the table's)")
+    p.add_argument("--runs", type=lambda t: _whole(t, 1, MAX_SEEDS), metavar="N",
+                   help=f"runs per strategy, 1 to {MAX_SEEDS} (default: the table's)")
     p.add_argument("--out", metavar="DIR", help="results folder (default reproduce_TABLE)")
     _where(p)
     p.set_defaults(func=cmd_reproduce)

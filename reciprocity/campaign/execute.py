@@ -9,25 +9,18 @@ resumes a campaign, even one whose driver was killed.
 
 from __future__ import annotations
 
-import contextlib
-import logging
-import os
 import sys
 import time
 import uuid
-from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import SearchError
+from .cluster import CONNECT_TIMEOUT_S, TLSFiles, check_cluster, dask_client
 from .spec import CampaignSpec
 from .store import ResultStore
 from .worker import _one_line, cache_stats, failure_row, run_task
 
-__all__ = ["CampaignResult", "run_campaign", "dask_client", "CONNECT_TIMEOUT_S"]
-
-#: Seconds to wait for a Dask scheduler given by address before giving up.
-CONNECT_TIMEOUT_S = 10.0
+__all__ = ["CampaignResult", "run_campaign"]
 
 
 @dataclass
@@ -62,57 +55,9 @@ class CampaignResult:
     cache_stats: dict = field(default_factory=dict)
 
 
-@contextlib.contextmanager
-def dask_client(workers: int | None = None, scheduler: str | None = None, *,
-                timeout: float = CONNECT_TIMEOUT_S) -> Iterator:
-    """A Dask client: on a new local cluster, or connected to `scheduler`.
-
-    Parameters
-    ----------
-    workers : int, optional
-        Local worker processes (one thread each); default: one per CPU core.
-    scheduler : str, optional
-        Address of a running scheduler (``tcp://host:8786``); its workers must have
-        this package installed and read scenario files at the same paths.
-    timeout : float
-        Seconds to wait for `scheduler` to answer.
-
-    Yields
-    ------
-    distributed.Client
-
-    Raises
-    ------
-    SearchError
-        Both or invalid `workers`/`scheduler`, or no scheduler answering in time.
-    """
-    from distributed import Client, LocalCluster
-    if workers is not None and scheduler is not None:
-        raise SearchError("give either --workers N (a local cluster) or --scheduler ADDRESS, not both")
-    if scheduler is not None:
-        try:
-            client = Client(scheduler, timeout=timeout)
-        except (OSError, TimeoutError, ValueError) as exc:
-            raise SearchError(f"no Dask scheduler answers at {scheduler!r} within {timeout:g} s "
-                              f"({_one_line(exc).split(':')[0]}); start one with 'dask scheduler' "
-                              "or run locally with --workers N") from None
-        with client:
-            yield client
-        return
-    n = workers if workers is not None else (os.cpu_count() or 1)
-    if n < 1:
-        raise SearchError(f"--workers must be at least 1; got {n}")
-    # no dashboard; the scheduler's health/metrics HTTP server on a free port (its default,
-    # 8787, warns "already in use" as soon as two campaigns or test workers run at once)
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                      scheduler_kwargs={"dashboard_address": ":0"},
-                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
-        yield client
-
-
 def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
-                 scheduler: str | None = None, progress: bool | None = None,
-                 window: int | None = None, flush_rows: int = 64, flush_seconds: float = 5.0,
+                 scheduler: str | None = None, tls: TLSFiles | None = None,
+                 progress: bool | None = None, window: int | None = None, flush_rows: int = 64, flush_seconds: float = 5.0,
                  timeout: float = CONNECT_TIMEOUT_S) -> CampaignResult:
     """Run (or resume) a campaign, storing every finished episode under `directory`.
 
@@ -123,9 +68,12 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
     directory : path-like
         Results folder (see :class:`reciprocity.campaign.store.ResultStore`).
     workers : int, optional
-        Local worker processes; default: one per CPU core.
+        Local worker processes; default: one per CPU core (or the spec's scheduler).
     scheduler : str, optional
-        Address of a Dask scheduler to use instead of a local cluster.
+        Address of a Dask scheduler to use instead of a local cluster; default: the
+        spec's, unless `workers` is given.
+    tls : TLSFiles, optional
+        Client certificate for a ``tls://`` scheduler; default: the spec's.
     progress : bool, optional
         Show a progress bar (done, failed, ETA); default: when stderr is a terminal.
     window : int, optional
@@ -145,12 +93,16 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
     Raises
     ------
     SearchError
-        Bad folder, a different spec in it, bad `workers`, or no scheduler answering; all
-        before any episode runs. A failing episode does not raise: it is stored with its
+        Bad folder, a different spec in it, bad `workers`, `scheduler` or `tls`, or no
+        scheduler answering; all before any episode runs. A failing episode does not raise: it is stored with its
         ``error_message``.
     """
     from tqdm import tqdm
     t0 = time.perf_counter()
+    if workers is None:
+        scheduler = scheduler or spec.scheduler
+        tls = tls or spec.tls
+    check_cluster(workers, scheduler, tls)
     with ResultStore.open(directory, spec) as store:
         done = store.finished_ids()
         n_todo = sum(1 for t in spec.tasks() if t.episode_id not in done)
@@ -159,7 +111,7 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
             result.wall_time_s = time.perf_counter() - t0
             return result
         pending = (t for t in spec.tasks() if t.episode_id not in done)
-        with dask_client(workers, scheduler, timeout=timeout) as client:
+        with dask_client(workers, scheduler, tls=tls, timeout=timeout) as client:
             threads = sum(client.nthreads().values()) or 1
             show = sys.stderr.isatty() if progress is None else progress
             with tqdm(total=spec.n_episodes, initial=result.n_skipped, unit="ep", desc=spec.name,

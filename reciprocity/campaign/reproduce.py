@@ -28,9 +28,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import SearchError
+from .cluster import TLSFiles
 from .execute import CampaignResult, run_campaign
 from .report import open_report_db
-from .spec import CampaignSpec, parse_spec
+from .spec import MAX_SEEDS, CampaignSpec, parse_spec
 
 __all__ = ["PaperValue", "PaperTable", "TABLES", "AMONG", "register", "reproduce", "compare",
            "comparison_markdown"]
@@ -254,7 +255,8 @@ def comparison_markdown(table: PaperTable, rows: list[dict]) -> str:
 
 
 def reproduce(name: str, directory, *, runs: int | None = None, workers: int | None = None,
-              scheduler: str | None = None, progress: bool | None = None
+              scheduler: str | None = None, tls: TLSFiles | None = None,
+              progress: bool | None = None
               ) -> tuple[PaperTable, CampaignResult, list[dict], list[Path]]:
     """Run (or resume) the campaign of table `name` and compare it with the paper.
 
@@ -265,8 +267,9 @@ def reproduce(name: str, directory, *, runs: int | None = None, workers: int | N
     directory : path-like
         Results folder.
     runs : int, optional
-        Seeds (episodes per strategy); default: the table's.
-    workers, scheduler, progress
+        Seeds (episodes per strategy), 1 to :data:`reciprocity.campaign.spec.MAX_SEEDS`;
+        default: the table's.
+    workers, scheduler, tls, progress
         As in :func:`reciprocity.campaign.run_campaign`.
 
     Returns
@@ -276,10 +279,11 @@ def reproduce(name: str, directory, *, runs: int | None = None, workers: int | N
         :attr:`PaperTable.after` wrote (empty without one).
     """
     table = _table(name)
-    if runs is not None and runs < 1:
-        raise SearchError(f"--runs must be at least 1; got {runs}")
+    if runs is not None and (isinstance(runs, bool) or not isinstance(runs, int)
+                             or not 1 <= runs <= MAX_SEEDS):
+        raise SearchError(f"--runs must be a whole number from 1 to {MAX_SEEDS}; got {runs!r}")
     spec = table.spec(runs)
-    result = run_campaign(spec, directory, workers=workers, scheduler=scheduler,
+    result = run_campaign(spec, directory, workers=workers, scheduler=scheduler, tls=tls,
                           progress=progress)
     rows = compare(table, directory)
     files = list(table.after(Path(directory), spec)) if table.after is not None else []

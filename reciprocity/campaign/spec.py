@@ -1,6 +1,7 @@
 """Campaign specifications: which strategies, scenarios, platform and seeds to run.
 
-A specification is a YAML mapping (read with ``yaml.safe_load``)::
+A specification is a YAML mapping, read strictly (:func:`arenas.files.load_yaml`: a size
+cap, duplicate keys refused)::
 
     name: paper-vs-maze            # optional; default: the file's stem
     seed: 2026                     # campaign seed (default 0); --seed overrides it
@@ -25,6 +26,20 @@ A specification is a YAML mapping (read with ``yaml.safe_load``)::
         random_source: false       # optional: per scenario
       - name: farrell
         random_start: true         # optional: ignore the scenario's start (see below)
+      - my_arena.yaml              # a plain arena file (boundary, obstacles, source, ...)
+    scheduler:                     # optional: a running Dask scheduler (see
+      address: tls://10.0.0.5:8786 # reciprocity.campaign.cluster); --workers or
+      tls:                         # --scheduler on the command line win
+        ca_file: ca.pem            # files relative to the spec
+        cert: client.pem
+        key: client.key
+
+Bounds, checked when the spec is parsed: ``seeds`` from 1 to :data:`MAX_SEEDS`,
+``seed`` from 0 to 2**63 - 1, ``agents`` from 1 to :data:`MAX_AGENTS`, at most
+:data:`MAX_PAIRS` (scenario, strategy variant) pairs and :data:`MAX_EPISODES` episodes.
+The whole spec is validated before the first episode: every scenario is loaded and
+checked with every strategy variant and the platform (:func:`reciprocity.api.check`;
+nothing is meshed or solved).
 
 A list value in a strategy mapping is a grid axis: the variants are the cartesian
 product of all axes (to pass a list as a single value, wrap it: ``[[1, 2]]``).
@@ -48,20 +63,24 @@ import hashlib
 import inspect
 import itertools
 import json
+import math
 import re
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import yaml
+
+from arenas.files import load_yaml, read_text
 
 from ..errors import SearchError
 from ..scenarios import Scenario, load_scenario, scenario_names
+from .cluster import TLSFiles, check_address
 
 __all__ = ["CampaignSpec", "ScenarioEntry", "StrategyVariant", "EpisodeTask", "load_spec",
            "parse_spec", "episode_seed", "entry_scenario", "world_overrides", "SOURCE_CLEARANCE",
-           "START_CLEARANCE"]
+           "START_CLEARANCE", "MAX_SEEDS", "MAX_SEED", "MAX_EPISODES", "MAX_PAIRS", "MAX_AGENTS",
+           "LABEL"]
 
 #: Minimum wall distance of a drawn source, cm: closer to a Dirichlet wall the signal is
 #: buried in the noise everywhere.
@@ -69,10 +88,24 @@ SOURCE_CLEARANCE = 8.0
 #: Minimum wall distance of a drawn start, cm.
 START_CLEARANCE = 5.0
 
+#: Most seeds (episodes per scenario and strategy variant); also ``reproduce --runs``.
+MAX_SEEDS = 100_000
+#: Most episodes of one campaign (seeds x variants x scenarios).
+MAX_EPISODES = 1_000_000
+#: Most (scenario, strategy variant) pairs: each is checked before the first episode.
+MAX_PAIRS = 10_000
+#: Most observers of an episode.
+MAX_AGENTS = 64
+#: Largest campaign seed.
+MAX_SEED = 2**63 - 1
+
 _TOP_KEYS = {"name", "seed", "seeds", "platform", "agents", "random_source", "strategies",
-             "scenarios", "pairs"}
+             "scenarios", "pairs", "scheduler"}
 _SCENARIO_KEYS = {"name", "label", "world", "random_source", "random_start"}
-_LABEL = re.compile(r"^[A-Za-z][A-Za-z0-9_.+-]*$")
+_SCHEDULER_KEYS = {"address", "tls"}
+_TLS_KEYS = ("ca_file", "cert", "key")
+#: What campaign names, scenario labels (and so partition folder names) look like.
+LABEL = re.compile(r"^[A-Za-z][A-Za-z0-9_.+-]*$")
 
 
 @dataclass(frozen=True)
@@ -201,6 +234,13 @@ class CampaignSpec:
     scenarios : tuple of ScenarioEntry
     source : dict
         The normalized specification (what :attr:`digest` hashes), JSON-compatible.
+    skip : frozenset
+        (scenario label, variant label) pairs not run (``pairs: supported``).
+    scheduler : str or None
+        Address of the Dask scheduler to run on by default (not part of the digest:
+        where episodes run does not change them).
+    tls : TLSFiles or None
+        Client certificate for a ``tls://`` `scheduler`.
     """
 
     name: str
@@ -212,6 +252,8 @@ class CampaignSpec:
     scenarios: tuple[ScenarioEntry, ...]
     source: dict = field(repr=False)
     skip: frozenset = frozenset()
+    scheduler: str | None = None
+    tls: TLSFiles | None = None
 
     @property
     def n_episodes(self) -> int:
@@ -260,16 +302,11 @@ def load_spec(path, *, seed: int | None = None) -> CampaignSpec:
     Raises
     ------
     SearchError
-        Unreadable file, malformed YAML, or an invalid spec (see :func:`parse_spec`).
+        Unreadable, binary or too large file, malformed YAML or duplicate keys, or an
+        invalid spec (see :func:`parse_spec`).
     """
     p = Path(path)
-    try:
-        data = yaml.safe_load(p.read_text())
-    except OSError as exc:
-        raise SearchError(f"cannot read campaign spec {str(p)!r}: {exc.strerror}") from None
-    except yaml.YAMLError as exc:
-        raise SearchError(f"campaign spec {str(p)!r} is not valid YAML: "
-                          f"{str(exc).splitlines()[0]}") from None
+    data = load_yaml(p, f"campaign spec {str(p)!r}", error=SearchError)
     if not isinstance(data, Mapping):
         raise SearchError(f"campaign spec {str(p)!r} must be a YAML mapping with strategies, "
                           "scenarios and seeds")
@@ -301,23 +338,31 @@ def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
     ------
     SearchError
         One line saying what is wrong: unknown key, strategy, scenario or parameter,
-        an empty grid, a strategy that does not apply to a scenario's world, ...
+        an empty grid, a number out of its bounds, a strategy that does not apply to a
+        scenario's world, a scenario that does not load, ...
     """
-    unknown = sorted(set(data) - _TOP_KEYS)
+    if not isinstance(data, Mapping):
+        raise SearchError("a campaign spec must be a mapping with strategies, scenarios and seeds")
+    unknown = sorted(set(map(str, data)) - _TOP_KEYS)
     if unknown:
         raise SearchError(f"unknown campaign spec key(s) {', '.join(map(repr, unknown))}; "
                           f"allowed: {', '.join(sorted(_TOP_KEYS))}")
     for key in ("strategies", "scenarios", "seeds"):
         if key not in data:
             raise SearchError(f"the campaign spec needs {key!r}")
+    base = Path(base_dir or ".")
     name = _label(data.get("name", "campaign"), "campaign name")
-    seed = _int(data.get("seed", 0), "seed", minimum=0)
-    seeds = _int(data["seeds"], "seeds", minimum=1)
+    seed = _int(data.get("seed", 0), "seed", 0, MAX_SEED)
+    seeds = _int(data["seeds"], "seeds", 1, MAX_SEEDS)
     platform = data.get("platform")
-    agents = None if data.get("agents") is None else _int(data["agents"], "agents", minimum=1)
+    if platform is not None and not isinstance(platform, str):
+        raise SearchError(f"platform must be a name (point, car, walker, ...); got {platform!r}")
+    agents = None if data.get("agents") is None else _int(data["agents"], "agents", 1, MAX_AGENTS)
     random_source = _bool(data.get("random_source", False), "random_source")
+    scheduler, tls = _scheduler(data.get("scheduler"), base)
     variants = _variants(data["strategies"])
-    scenarios = _scenarios(data["scenarios"], random_source, Path(base_dir or "."))
+    _bounded_size(seeds, len(variants), data["scenarios"])
+    scenarios = _scenarios(data["scenarios"], random_source, base)
     pairs = data.get("pairs", "all")
     if pairs not in ("all", "supported"):
         raise SearchError(f"pairs must be 'all' or 'supported'; got {pairs!r}")
@@ -333,13 +378,50 @@ def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
                   **({"pairs": "supported"} if pairs == "supported" else {}))
     _jsonable(source)
     return CampaignSpec(name, seed, seeds, platform, agents, tuple(variants), tuple(scenarios),
-                        source, frozenset(skip))
+                        source, frozenset(skip), scheduler, tls)
 
 
-def _int(value, what: str, *, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
-        raise SearchError(f"{what} must be an integer >= {minimum}; got {value!r}")
+def _int(value, what: str, lo: int, hi: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
+        raise SearchError(f"{what} must be a whole number from {lo} to {hi}; got {value!r}")
     return value
+
+
+def _bounded_size(seeds: int, n_variants: int, scenarios) -> None:
+    """Refuse a campaign too large to check or run, before loading its scenarios."""
+    n_scenarios = len(scenarios) if isinstance(scenarios, list) else 1
+    if n_variants * n_scenarios > MAX_PAIRS:
+        raise SearchError(f"the campaign has {n_variants} strategy variants x {n_scenarios} "
+                          f"scenarios = {n_variants * n_scenarios} pairs; at most {MAX_PAIRS} "
+                          "are allowed (shrink the parameter grids)")
+    if seeds * n_variants * n_scenarios > MAX_EPISODES:
+        raise SearchError(f"the campaign has {seeds} seeds x {n_variants} strategy variants x "
+                          f"{n_scenarios} scenarios = {seeds * n_variants * n_scenarios} episodes; "
+                          f"at most {MAX_EPISODES} are allowed")
+
+
+def _scheduler(value, base_dir: Path) -> tuple[str | None, TLSFiles | None]:
+    """The spec's ``scheduler``: an address, or ``{address: ..., tls: {ca_file, cert, key}}``."""
+    if value is None:
+        return None, None
+    if isinstance(value, str):
+        value = {"address": value}
+    if not isinstance(value, Mapping) or "address" not in value:
+        raise SearchError("scheduler must be an address (tls://HOST:PORT) or a mapping "
+                          f"{{address: ..., tls: {{ca_file: ..., cert: ..., key: ...}}}}; got {value!r}")
+    unknown = sorted(set(map(str, value)) - _SCHEDULER_KEYS)
+    if unknown:
+        raise SearchError(f"unknown key(s) {', '.join(map(repr, unknown))} in scheduler; "
+                          f"allowed: {', '.join(sorted(_SCHEDULER_KEYS))}")
+    address = check_address(value["address"])
+    tls = value.get("tls")
+    if tls is None:
+        return address, None
+    if not isinstance(tls, Mapping) or set(map(str, tls)) != set(_TLS_KEYS) or not all(
+            isinstance(tls[k], str) and tls[k] for k in _TLS_KEYS):
+        raise SearchError(f"scheduler tls must be a mapping of the files {', '.join(_TLS_KEYS)} "
+                          f"(paths relative to the spec); got {tls!r}")
+    return address, TLSFiles(*(str(base_dir / tls[k]) for k in _TLS_KEYS))
 
 
 def _bool(value, what: str) -> bool:
@@ -349,7 +431,7 @@ def _bool(value, what: str) -> bool:
 
 
 def _label(value, what: str) -> str:
-    if not isinstance(value, str) or not _LABEL.match(value):
+    if not isinstance(value, str) or not LABEL.match(value):
         raise SearchError(f"{what} must start with a letter and hold only letters, digits and "
                           f"_ . + -; got {value!r}")
     return value
@@ -368,11 +450,17 @@ def _variants(strategies) -> list[StrategyVariant]:
     if isinstance(strategies, str):
         strategies = [strategies]
     if isinstance(strategies, list):
+        if not all(isinstance(s, str) for s in strategies):
+            raise SearchError(f"strategies must be a list of names; got {strategies!r}")
+        dup = sorted({s for s in strategies if strategies.count(s) > 1})
+        if dup:
+            raise SearchError(f"strategy {', '.join(map(repr, dup))} is listed twice in the "
+                              "campaign spec; list each once (a grid gives several variants)")
         strategies = {s: {} for s in strategies}
     if not isinstance(strategies, Mapping) or not strategies:
         raise SearchError("strategies must be a non-empty list of names or a mapping "
                           "name -> {parameter: value or [grid values]}")
-    out = []
+    grids = []
     for name, params in strategies.items():
         if name not in STRATEGIES:
             raise SearchError(f"unknown strategy {name!r} in the campaign spec; choose from "
@@ -386,12 +474,23 @@ def _variants(strategies) -> list[StrategyVariant]:
         for k, v in axes.items():
             if not v:
                 raise SearchError(f"empty grid: strategy {name!r} parameter {k!r} lists no values")
-        fixed = {k: v for k, v in params.items() if k not in axes}
+        grids.append((name, {k: v for k, v in params.items() if k not in axes}, axes))
+    n = sum(math.prod(len(v) for v in axes.values()) for _, _, axes in grids)
+    if n > MAX_PAIRS:
+        raise SearchError(f"the strategy grids give {n} variants; at most {MAX_PAIRS} are "
+                          "allowed (shrink the grids)")
+    out = []
+    for name, fixed, axes in grids:
         for combo in itertools.product(*axes.values()):
             grid = dict(zip(axes, combo))
             label = name if not grid else name + "[" + ",".join(
                 f"{k}={_short(v)}" for k, v in grid.items()) + "]"
             out.append(StrategyVariant(name, {**fixed, **grid}, label))
+    labels = [v.label for v in out]
+    dup = sorted({x for x in labels if labels.count(x) > 1})
+    if dup:
+        raise SearchError(f"strategy variant(s) {', '.join(dup)} appear twice: a grid lists a "
+                          "value twice; list each value once")
     return out
 
 
@@ -419,9 +518,9 @@ def _scenarios(scenarios, random_source: bool, base_dir: Path) -> list[ScenarioE
     out = []
     for item in scenarios:
         entry = {"name": item} if isinstance(item, str) else item
-        if not isinstance(entry, Mapping) or "name" not in entry:
+        if not isinstance(entry, Mapping) or not isinstance(entry.get("name"), str):
             raise SearchError(f"a scenario must be a name or a mapping with 'name'; got {item!r}")
-        unknown = sorted(set(entry) - _SCENARIO_KEYS)
+        unknown = sorted(set(map(str, entry)) - _SCENARIO_KEYS)
         if unknown:
             raise SearchError(f"unknown key(s) {', '.join(map(repr, unknown))} in scenario "
                               f"{entry['name']!r}; allowed: {', '.join(sorted(_SCENARIO_KEYS))}")
@@ -455,10 +554,11 @@ def _resolve_scenario(name: str, base_dir: Path) -> tuple[str, str | None]:
     if name in scenario_names():
         return name, None
     path = Path(name) if Path(name).is_absolute() else base_dir / name
-    if not path.is_file():
+    if not path.exists():
         raise SearchError(f"unknown scenario {name!r} in the campaign spec: not a built-in "
                           f"({', '.join(scenario_names())}) nor a file")
-    return str(path.resolve()), hashlib.sha256(path.read_bytes()).hexdigest()
+    text = read_text(path, f"scenario file {name!r}", error=SearchError)
+    return str(path.resolve()), hashlib.sha256(text.encode()).hexdigest()
 
 
 def world_overrides(world: Mapping) -> dict:
@@ -522,26 +622,38 @@ def entry_scenario(entry: ScenarioEntry, scenario: Scenario | None = None) -> Sc
 def _check_pairs(scenarios, variants, platform, agents, *, supported_only: bool = False) -> set:
     """Check every pair; return the (scenario label, variant label) pairs to skip (with
     `supported_only`, those whose strategy does not apply to the scenario's world)."""
-    from .. import api
-    from ..strategies import STRATEGIES
     skip = set()
     for sc in scenarios:
-        scenario = entry_scenario(sc)
-        if sc.random_source and scenario.world != "poisson":
-            raise SearchError(f"scenario {sc.label!r}: random_source applies to arena scenarios "
-                              f"(world 'poisson'), not to world {scenario.world!r}")
-        for v in variants:
-            worlds = getattr(STRATEGIES[v.strategy], "worlds", ("poisson",))
-            if scenario.world not in worlds and supported_only:
-                skip.add((sc.label, v.label))
-                continue
-            if scenario.world not in worlds:
-                raise SearchError(f"strategy {v.strategy!r} does not apply to scenario "
-                                  f"{sc.label!r} (world {scenario.world!r}); it applies to "
-                                  f"{', '.join(worlds)}")
-            api.check(scenario, v.strategy, params=v.params, platform=platform, agents=agents,
-                      world=sc.world)
-        if len(skip) and all((sc.label, v.label) in skip for v in variants):
-            raise SearchError(f"no strategy of the spec applies to scenario {sc.label!r} "
-                              f"(world {scenario.world!r})")
+        try:
+            skip |= _check_scenario(sc, variants, platform, agents, supported_only)
+        except SearchError:
+            raise
+        except (TypeError, ValueError) as exc:   # a value of the wrong type deep in a world
+            raise SearchError(f"scenario {sc.label!r}: {' '.join(str(exc).split())}") from None
+    return skip
+
+
+def _check_scenario(sc: ScenarioEntry, variants, platform, agents, supported_only: bool) -> set:
+    from .. import api
+    from ..strategies import STRATEGIES
+    scenario = entry_scenario(sc)
+    if sc.random_source and scenario.world != "poisson":
+        raise SearchError(f"scenario {sc.label!r}: random_source applies to arena scenarios "
+                          f"(world 'poisson'), not to world {scenario.world!r}")
+    # the world overrides once per scenario (they are checked with the world's rules)
+    scenario = scenario.with_world(world_overrides(sc.world))
+    skip = set()
+    for v in variants:
+        worlds = getattr(STRATEGIES[v.strategy], "worlds", ("poisson",))
+        if scenario.world not in worlds and supported_only:
+            skip.add((sc.label, v.label))
+            continue
+        if scenario.world not in worlds:
+            raise SearchError(f"strategy {v.strategy!r} does not apply to scenario "
+                              f"{sc.label!r} (world {scenario.world!r}); it applies to "
+                              f"{', '.join(worlds)}")
+        api.check(scenario, v.strategy, params=v.params, platform=platform, agents=agents)
+    if len(skip) == len(variants):
+        raise SearchError(f"no strategy of the spec applies to scenario {sc.label!r} "
+                          f"(world {scenario.world!r})")
     return skip

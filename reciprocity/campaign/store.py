@@ -9,11 +9,16 @@ Each row is one finished episode: the columns of :data:`CONTRACT_SCHEMA` (always
 fixed types; null where an episode did not report a key) followed by any further summary
 keys (scalars and lists of numbers as such, anything else as a JSON string). A batch is
 written to a hidden temporary name and renamed with :func:`os.replace`, so a file is
-either complete or absent, whenever the driver is killed. Query the files directly with
-DuckDB::
+either complete or absent, whenever the driver is killed.
 
-    SELECT strategy, avg(success::int) FROM read_parquet('DIR/**/*.parquet',
-        union_by_name=true, hive_partitioning=false) GROUP BY strategy
+Readers (the report, resuming) read only the campaign's own files: ``campaign.json``
+and the ``part-*.parquet`` files of the partitions it names (:func:`result_files`),
+never a recursive search of a user's folder. Query them with :func:`connect`, or
+directly with DuckDB::
+
+    SELECT strategy, avg(success::int) FROM read_parquet(
+        'DIR/scenario=*/strategy=*/part-*.parquet', union_by_name=true,
+        hive_partitioning=false) GROUP BY strategy
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ import contextlib
 import fcntl
 import json
 import os
+import re
 import uuid
 from collections.abc import Iterable
 from pathlib import Path
@@ -31,10 +37,13 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from ..errors import SearchError
-from .spec import CampaignSpec
+from arenas.files import read_text
 
-__all__ = ["CONTRACT_SCHEMA", "ResultStore", "rows_to_table", "episodes_sql", "connect"]
+from ..errors import SearchError
+from .spec import LABEL, CampaignSpec
+
+__all__ = ["CONTRACT_SCHEMA", "ResultStore", "rows_to_table", "episodes_sql", "connect",
+           "read_meta", "result_files", "MAX_META_BYTES"]
 
 _F64_LIST = pa.list_(pa.float64())
 
@@ -55,10 +64,119 @@ CONTRACT_SCHEMA = pa.schema([
 
 _META = "campaign.json"
 _LOCK = ".lock"
+_PART = re.compile(r"^part-[0-9a-f]{16}\.parquet$")
+#: Largest ``campaign.json`` read, bytes (the normalized spec of the largest grids).
+MAX_META_BYTES = 32_000_000
+
+
+def read_meta(directory) -> dict:
+    """The ``campaign.json`` of the campaign folder `directory`, checked.
+
+    Parameters
+    ----------
+    directory : path-like
+        A campaign folder.
+
+    Returns
+    -------
+    dict
+        ``name``, ``spec_hash``, ``seeds`` and ``spec`` (the normalized spec).
+
+    Raises
+    ------
+    SearchError
+        `directory` is not a folder, has no ``campaign.json``, or the file is not one
+        that :class:`ResultStore` wrote.
+    """
+    d = Path(directory)
+    if not d.is_dir():
+        raise SearchError(f"campaign folder {str(d)!r} does not exist or is not a folder; give "
+                          "the --out folder of 'reciprocity campaign'")
+    if not (d / _META).is_file():
+        raise SearchError(f"{str(d)!r} is not a campaign folder: it has no {_META}; give the "
+                          "--out folder of 'reciprocity campaign'")
+    meta = _load_meta(d)
+    try:
+        spec = meta["spec"]
+        labels = [s["label"] for s in spec["scenarios"]]
+        names = [v["strategy"] for v in spec["strategies"].values()]
+    except (ValueError, KeyError, TypeError, AttributeError):
+        raise SearchError(f"{_META} of {str(d)!r} is damaged: not the file a campaign wrote; "
+                          "re-run the campaign into a new folder") from None
+    bad = [x for x in labels + names if not isinstance(x, str) or not LABEL.match(x)]
+    if bad:
+        raise SearchError(f"{_META} of {str(d)!r} names partition {bad[0]!r}, not a label; "
+                          "re-run the campaign into a new folder")
+    return meta
+
+
+def _refuse_foreign_folder(directory: Path) -> None:
+    """A folder with things in it but no campaign.json is someone else's: never write there
+    (only its top level is listed)."""
+    if not (directory / _META).exists() and any(
+            e.name != _LOCK for e in os.scandir(directory)):
+        raise SearchError(f"{str(directory)!r} holds other files and no {_META}: not a "
+                          "campaign folder; give a new or empty folder for --out")
+
+
+def _load_meta(directory: Path) -> dict:
+    text = read_text(directory / _META, f"{_META} of {str(directory)!r}", error=SearchError,
+                     max_bytes=MAX_META_BYTES)
+    try:
+        meta = json.loads(text)
+    except ValueError:
+        meta = None
+    if not isinstance(meta, dict):
+        raise SearchError(f"{_META} of {str(directory)!r} is damaged: not the file a campaign "
+                          "wrote; re-run the campaign into a new folder")
+    return meta
+
+
+def _partitions(directory: Path, spec: dict) -> list[Path]:
+    """The partition folders a campaign with normalized spec `spec` writes."""
+    strategies = dict.fromkeys(v["strategy"] for v in spec["strategies"].values())
+    return [directory / f"scenario={s['label']}" / f"strategy={name}"
+            for s in spec["scenarios"] for name in strategies]
+
+
+def result_files(directory) -> list[Path]:
+    """The results files of the campaign in `directory`, and nothing else.
+
+    Only the ``part-*.parquet`` regular files of the partition folders that its
+    ``campaign.json`` names are listed: no recursive search, no symbolic links.
+
+    Parameters
+    ----------
+    directory : path-like
+        A campaign folder.
+
+    Returns
+    -------
+    list of Path
+        Sorted; empty before the first batch is written.
+
+    Raises
+    ------
+    SearchError
+        Not a campaign folder (see :func:`read_meta`).
+    """
+    d = Path(directory)
+    files = []
+    for folder in _partitions(d, read_meta(d)["spec"]):
+        try:
+            entries = list(os.scandir(folder))
+        except (FileNotFoundError, NotADirectoryError):
+            continue
+        except OSError as exc:
+            raise SearchError(f"cannot read campaign results in {str(folder)!r}: "
+                              f"{exc.strerror}") from None
+        files += [Path(e.path) for e in entries
+                  if _PART.match(e.name) and e.is_file(follow_symlinks=False)]
+    return sorted(files)
 
 
 def episodes_sql(directory) -> str:
-    """The DuckDB table expression over all results files of `directory`.
+    """The DuckDB table expression over the results files of the campaign in `directory`.
 
     Parameters
     ----------
@@ -68,11 +186,20 @@ def episodes_sql(directory) -> str:
     Returns
     -------
     str
-        ``read_parquet('DIR/**/*.parquet', union_by_name=true, hive_partitioning=false)``
-        (the partition values are also columns of the files).
+        ``read_parquet([...files...], union_by_name=true, hive_partitioning=false)``
+        over :func:`result_files` (the partition values are also columns of the files).
+
+    Raises
+    ------
+    SearchError
+        Not a campaign folder, or no results in it yet.
     """
-    glob = str(Path(directory) / "**" / "*.parquet").replace("'", "''")
-    return f"read_parquet('{glob}', union_by_name=true, hive_partitioning=false)"
+    files = result_files(directory)
+    if not files:
+        raise SearchError(f"no campaign results in {str(directory)!r} yet; run 'reciprocity "
+                          "campaign SPEC.yaml --out DIR' first")
+    listed = ", ".join("'" + str(f).replace("'", "''") + "'" for f in files)
+    return f"read_parquet([{listed}], union_by_name=true, hive_partitioning=false)"
 
 
 def connect(directory) -> duckdb.DuckDBPyConnection:
@@ -90,14 +217,10 @@ def connect(directory) -> duckdb.DuckDBPyConnection:
     Raises
     ------
     SearchError
-        No results files in `directory`.
+        Not a campaign folder, or no results in it yet.
     """
-    d = Path(directory)
-    if not d.is_dir() or not any(d.glob("**/*.parquet")):
-        raise SearchError(f"no campaign results (*.parquet) under {str(d)!r}; run "
-                          "'reciprocity campaign SPEC.yaml --out DIR' first")
     con = duckdb.connect()
-    con.execute(f"CREATE VIEW episodes AS SELECT * FROM {episodes_sql(d)}")
+    con.execute(f"CREATE VIEW episodes AS SELECT * FROM {episodes_sql(directory)}")
     return con
 
 
@@ -227,6 +350,7 @@ class ResultStore:
         d = Path(directory)
         try:
             d.mkdir(parents=True, exist_ok=True)
+            _refuse_foreign_folder(d)
             lock = open(d / _LOCK, "a")
         except OSError as exc:
             raise SearchError(f"cannot write campaign results to {str(d)!r}: "
@@ -240,7 +364,7 @@ class ResultStore:
         store = cls(d, lock)
         try:
             store._check_spec(spec)
-            store._remove_partial_files()
+            store._remove_partial_files(spec)
         except BaseException:
             store.close()
             raise
@@ -249,27 +373,25 @@ class ResultStore:
     def _check_spec(self, spec: CampaignSpec) -> None:
         meta = self.directory / _META
         if meta.exists():
-            old = json.loads(meta.read_text())
+            old = _load_meta(self.directory)
             if old.get("spec_hash") != spec.digest:
                 raise SearchError(
                     f"{str(self.directory)!r} holds campaign {old.get('name')!r} made with a "
-                    f"different spec (hash {old.get('spec_hash', '?')[:12]} vs "
+                    f"different spec (hash {str(old.get('spec_hash', '?'))[:12]} vs "
                     f"{spec.digest[:12]}); use another --out, or the spec (and --seed) that "
                     "made it")
-            seeds = max(int(old.get("seeds", 0)), spec.seeds)
-        elif any(self.directory.glob("**/*.parquet")):
-            raise SearchError(f"{str(self.directory)!r} holds Parquet files but no {_META}: not "
-                              "a campaign folder; choose another --out")
+            seeds = max(old.get("seeds", 0), spec.seeds)   # same hash: a file we wrote
         else:
             seeds = spec.seeds
         text = json.dumps(dict(name=spec.name, spec_hash=spec.digest, seeds=seeds,
                                spec=spec.source), indent=1)
         self._atomic_write(meta, text.encode())
 
-    def _remove_partial_files(self) -> None:
+    def _remove_partial_files(self, spec: CampaignSpec) -> None:
         # temporary files of a driver killed while writing; their episodes are re-run
-        for tmp in self.directory.glob("**/.*.tmp"):
-            tmp.unlink()
+        for folder in [self.directory, *_partitions(self.directory, spec.source)]:
+            for tmp in folder.glob(".*.tmp"):
+                tmp.unlink()
 
     def _atomic_write(self, path: Path, data: bytes) -> None:
         tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}.tmp")
@@ -291,7 +413,7 @@ class ResultStore:
         -------
         set of str
         """
-        if not any(self.directory.glob("**/*.parquet")):
+        if not result_files(self.directory):
             return set()
         con = duckdb.connect()
         rows = con.execute(f"SELECT DISTINCT episode_id FROM {episodes_sql(self.directory)}")

@@ -31,7 +31,7 @@ def test_bad_spec_exits_2_before_anything_runs(tmp_path, capsys, text, match):
 def test_unwritable_out_and_foreign_spec_exit_2(tmp_path, capsys):
     (tmp_path / "file").write_text("x")
     assert main(["campaign", str(_spec(tmp_path)), "--out", str(tmp_path / "file" / "o")]) == 2
-    assert "cannot write campaign results" in capsys.readouterr().err
+    assert "file' is a file; give a folder" in capsys.readouterr().err
     (tmp_path / "o").mkdir()
     (tmp_path / "o" / "campaign.json").write_text('{"name": "x", "spec_hash": "abc"}')
     assert main(["campaign", str(_spec(tmp_path)), "--out", str(tmp_path / "o")]) == 2
@@ -40,7 +40,7 @@ def test_unwritable_out_and_foreign_spec_exit_2(tmp_path, capsys):
 
 def test_report_and_reproduce_errors_exit_2(tmp_path, capsys):
     assert main(["report", str(tmp_path)]) == 2
-    assert "no campaign results" in capsys.readouterr().err
+    assert "is not a campaign folder: it has no campaign.json" in capsys.readouterr().err
     assert main(["reproduce", "no-such-table"]) == 2
     assert "unknown table 'no-such-table'" in capsys.readouterr().err
     assert main(["reproduce", "landa2020-testbed", "--runs", "0"]) == 2

@@ -53,7 +53,7 @@ def test_spec_file_with_scenario_entries(tmp_path):
     ({"scenarios": ["atlantis"]}, "unknown scenario 'atlantis'"),
     ({"strategies": {"reciprocity": {"eps": []}}}, "empty grid"),
     ({"strategies": {"reciprocity": {"epsilon": 0.1}}}, "has no parameter"),
-    ({"seeds": 0}, "seeds must be an integer >= 1"),
+    ({"seeds": 0}, "seeds must be a whole number from 1 to 100000; got 0"),
     ({"seedz": 3}, "unknown campaign spec key"),
     ({"platform": "boat"}, "platform 'boat'"),
     ({"scenarios": [{"name": "empty", "world": {"source": [1, 2]}}], "random_source": True},
@@ -109,3 +109,108 @@ def test_a_start_heading_in_a_spec_is_in_degrees_like_scenario_files():
     # one step from heading +y with turns of at most 3 degrees (song-100's printed limit)
     pose = episode.records[0].pose
     assert abs(pose[2] - np.pi / 2) <= np.radians(3) + 1e-9
+
+
+@pytest.mark.parametrize("text, match", [
+    ("seeds: 1\nseeds: 2\nstrategies: [gradient]\nscenarios: [empty]\n", "duplicate key 'seeds'"),
+    ("seeds: 1\nscenarios: [empty]\nstrategies:\n  gradient: {h: 4.0}\n  gradient: {h: 2.0}\n",
+     "duplicate key 'gradient'"),
+    ("seeds: 1\nscenarios: [empty]\nstrategies: [gradient, reciprocity, gradient]\n",
+     "strategy 'gradient' is listed twice"),
+    ("seeds: 1\nscenarios: [empty]\nstrategies: {gradient: {h: [4.0, 2.0, 4.0]}}\n",
+     r"gradient\[h=4.0\] appear twice"),
+])
+def test_duplicate_keys_strategies_and_variants_are_refused(tmp_path, text, match):
+    f = tmp_path / "dup.yaml"
+    f.write_text(text)
+    with pytest.raises(SearchError, match=match) as info:
+        load_spec(f)
+    assert "\n" not in str(info.value)
+
+
+def test_binary_files_and_folders_are_refused_as_specs(tmp_path):
+    (tmp_path / "bin.yaml").write_bytes(b"seeds: 1\0\xff")
+    with pytest.raises(SearchError, match="binary"):
+        load_spec(tmp_path / "bin.yaml")
+    with pytest.raises(SearchError, match="is a folder"):
+        load_spec(tmp_path)
+
+
+@pytest.mark.parametrize("change, match", [
+    ({"seeds": 100_001}, "seeds must be a whole number from 1 to 100000; got 100001"),
+    ({"seeds": 2.5}, "seeds must be a whole number"),
+    ({"seed": -1}, "seed must be a whole number from 0 to 9223372036854775807"),
+    ({"seed": 2**63}, "seed must be a whole number from 0"),
+    ({"agents": 65}, "agents must be a whole number from 1 to 64; got 65"),
+    ({"seeds": 100_000, "strategies": {"reciprocity": {"h": [1.0, 2.0, 3.0, 4.0, 5.0, 6.0,
+                                                             7.0, 8.0, 9.0, 10.0, 11.0]}}},
+     "= 1100000 episodes; at most 1000000"),
+    # 20^6 = 64 million variants: refused from the axis lengths, never expanded
+    ({"strategies": {"reciprocity": {k: list(range(20)) for k in
+                                     ("h", "eps", "d", "sigma", "reach", "combine")}}},
+     "give 64000000 variants; at most 10000"),
+    ({"strategies": {"reciprocity": {"h": list(range(1, 101))}},
+      "scenarios": [{"name": "empty", "label": f"e{i}"} for i in range(101)]},
+     "= 10100 pairs; at most 10000"),
+    ({"platform": ["point"]}, "platform must be a name"),
+    ({"strategies": [["gradient"]]}, "strategies must be a list of names"),
+    ({"scenarios": [{"label": "x"}]}, "a scenario must be a name or a mapping with 'name'"),
+])
+def test_sizes_and_numbers_are_bounded_at_parse_time(change, match):
+    with pytest.raises(SearchError, match=match) as info:
+        parse_spec({**BASE, **change})
+    assert "\n" not in str(info.value)
+
+
+def test_every_scenario_is_checked_before_the_first_episode(tmp_path):
+    (tmp_path / "bad_lattice.yaml").write_text("world: lattice\nradius: 9\np: 2.0\n")
+    with pytest.raises(SearchError, match=r"unknown poisson world parameter\(s\) colour"):
+        parse_spec({**BASE, "scenarios": ["empty", {"name": "maze", "world": {"colour": 1}}]})
+    with pytest.raises(SearchError, match="scenario 'empty'.*(start|corner)"):
+        parse_spec({**BASE, "scenarios": [{"name": "empty", "world": {"start": "corner"}}]})
+    with pytest.raises(SearchError, match="p must be a fraction"):
+        parse_spec({"seeds": 1, "strategies": ["random-walk"],
+                    "scenarios": ["otto-2d", "bad_lattice.yaml"]}, base_dir=tmp_path)
+
+
+@pytest.mark.xfail(strict=True, reason="the start-in-arena check of reciprocity/scenarios.py "
+                   "(issue 19, another branch) is not merged yet; remove this mark with it")
+def test_a_scenario_starting_outside_its_arena_is_refused_up_front(tmp_path):
+    (tmp_path / "outside.yaml").write_text("world: poisson\narena: empty\nstart: [500, 500, 0]\n")
+    with pytest.raises(SearchError, match="start"):
+        parse_spec({"seeds": 1, "strategies": ["gradient"], "scenarios": ["outside.yaml"]},
+                   base_dir=tmp_path)
+
+
+def test_a_plain_arena_file_is_a_campaign_scenario(tmp_path):
+    import numpy as np
+    from reciprocity.campaign.worker import run_task
+    (tmp_path / "my_arena.yaml").write_text(
+        "boundary: [[0, 0], [140, 0], [140, 140], [0, 140]]\n"
+        "obstacles:\n  - [[40, 50], [46, 50], [46, 96], [94, 96], [94, 76], [100, 76], "
+        "[100, 102], [40, 102]]\n"
+        "source: [70.21, 70.21]\nstrength: 850\nstart: [128, 12, 135]\n")
+    spec = parse_spec({"seeds": 1, "strategies": {"random-walk": {"n_steps": 2}},
+                       "scenarios": ["my_arena.yaml"]}, base_dir=tmp_path)
+    (entry,) = spec.scenarios
+    assert entry.label == "my_arena" and entry.file_digest is not None
+    row = run_task(next(spec.tasks()))
+    assert row["error_message"] is None and row["world"] == "poisson"
+    assert row["source"] == [70.21, 70.21] and row["steps"] == 2
+    assert np.allclose(row["start"], [128, 12, np.radians(135)])   # degrees in the file
+
+
+def test_scheduler_of_a_spec_is_checked_and_not_hashed(tmp_path):
+    spec = parse_spec({**BASE, "scheduler": {"address": "tls://10.0.0.5:8786", "tls": {
+        "ca_file": "ca.pem", "cert": "client.pem", "key": "client.key"}}}, base_dir=tmp_path)
+    assert spec.scheduler == "tls://10.0.0.5:8786"
+    assert spec.tls.ca_file == str(tmp_path / "ca.pem") and spec.tls.key == str(tmp_path / "client.key")
+    assert spec.digest == parse_spec(BASE).digest      # where episodes run does not change them
+    assert parse_spec({**BASE, "scheduler": "127.0.0.1:8786"}).scheduler == "127.0.0.1:8786"
+    for bad, match in ((["x"], "scheduler must be an address"),
+                       ({"address": "http://h:1"}, "tcp://HOST:PORT"),
+                       ({"address": "tcp://h:70000"}, "port 1 to 65535"),
+                       ({"address": "tls://h:1", "tls": {"ca_file": "a"}}, "scheduler tls must be"),
+                       ({"address": "tls://h:1", "hosts": 2}, "unknown key")):
+        with pytest.raises(SearchError, match=match):
+            parse_spec({**BASE, "scheduler": bad})
