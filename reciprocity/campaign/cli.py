@@ -11,9 +11,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from arenas.files import check_output
+
 from ..errors import SearchError
 from .cluster import TLSFiles, check_address, max_workers
-from .outputs import check_output_dir
 from .spec import MAX_SEED, MAX_SEEDS
 
 __all__ = ["add_commands"]
@@ -87,7 +88,7 @@ def cmd_campaign(args) -> int:
     from .execute import run_campaign
     from .report import build_report
     from .spec import load_spec
-    check_output_dir(args.out, "--out")
+    check_output(args.out, "--out", folder=True, error=SearchError)
     spec = load_spec(args.spec, seed=args.seed)
     result = run_campaign(spec, args.out, workers=args.workers, scheduler=args.scheduler,
                           tls=_tls(args), progress=_progress(args))
@@ -102,7 +103,7 @@ def cmd_report(args) -> int:
     from .report import build_report, write_report
     from .store import read_meta
     read_meta(args.dir)
-    out = check_output_dir(args.out or Path(args.dir) / "report", "--out")
+    out = check_output(args.out or Path(args.dir) / "report", "--out", folder=True, error=SearchError)
     report = build_report(args.dir)
     write_report(report, args.dir, out)
     print(report.markdown(), end="")
@@ -120,7 +121,7 @@ def cmd_reproduce(args) -> int:
         return 0
     if args.table is None:
         raise SearchError("name a table (reciprocity reproduce --list shows them)")
-    out = check_output_dir(args.out or f"reproduce_{args.table}", "--out")
+    out = check_output(args.out or f"reproduce_{args.table}", "--out", folder=True, error=SearchError)
     table, result, rows, files = reproduce(args.table, out, runs=args.runs, workers=args.workers,
                                            scheduler=args.scheduler, tls=_tls(args),
                                            progress=_progress(args))

@@ -31,7 +31,7 @@ def test_bad_spec_exits_2_before_anything_runs(tmp_path, capsys, text, match):
 def test_unwritable_out_and_foreign_spec_exit_2(tmp_path, capsys):
     (tmp_path / "file").write_text("x")
     assert main(["campaign", str(_spec(tmp_path)), "--out", str(tmp_path / "file" / "o")]) == 2
-    assert "file' is a file; give a folder" in capsys.readouterr().err
+    assert "is a file, so no folder can be made there" in capsys.readouterr().err
     (tmp_path / "o").mkdir()
     (tmp_path / "o" / "campaign.json").write_text('{"name": "x", "spec_hash": "abc"}')
     assert main(["campaign", str(_spec(tmp_path)), "--out", str(tmp_path / "o")]) == 2

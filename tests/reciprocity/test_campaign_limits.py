@@ -66,7 +66,7 @@ def test_output_folders_are_checked_before_any_work(tmp_path, capsys, spec_file,
     afile = tmp_path / "afile"
     afile.write_text("x")
     _exit_2_one_line(capsys, ["campaign", str(spec_file), "--out", str(afile)], "is a file; give a folder")
-    _exit_2_one_line(capsys, ["campaign", str(spec_file), "--out", "/proc/no/such"], "cannot be written")
+    _exit_2_one_line(capsys, ["campaign", str(spec_file), "--out", "/proc/no/such"], "cannot write into")
     _exit_2_one_line(capsys, ["reproduce", "landa2020-testbed", "--out", str(afile / "x")],
                      "afile' is a file; give a folder")
     _exit_2_one_line(capsys, ["report", str(campaign_dir), "--out", str(afile)], "is a file")
