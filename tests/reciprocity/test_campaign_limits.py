@@ -68,7 +68,7 @@ def test_output_folders_are_checked_before_any_work(tmp_path, capsys, spec_file,
     _exit_2_one_line(capsys, ["campaign", str(spec_file), "--out", str(afile)], "is a file; give a folder")
     _exit_2_one_line(capsys, ["campaign", str(spec_file), "--out", "/proc/no/such"], "cannot write into")
     _exit_2_one_line(capsys, ["reproduce", "landa2020-testbed", "--out", str(afile / "x")],
-                     "afile' is a file; give a folder")
+                     "afile' is a file, so no folder can be made there")
     _exit_2_one_line(capsys, ["report", str(campaign_dir), "--out", str(afile)], "is a file")
     assert not (campaign_dir / "report").exists()
     # a folder that already holds other things is not taken for a campaign's
