@@ -1,0 +1,83 @@
+"""A built-in strategy as an agent of :func:`reciprocity.env.rollout`."""
+
+from __future__ import annotations
+
+import inspect
+
+import numpy as np
+
+from ..observations import MessageLog
+from ..outcome import Stop, StopReason
+from ..task import Percept, Report, Task
+from .base import SearchContext, Status, Strategy
+
+__all__ = ["StrategyAgent"]
+
+
+class StrategyAgent:
+    """Drive a :class:`Strategy` through the environment boundary.
+
+    Parameters
+    ----------
+    factory : type
+        The strategy class (``reciprocity.strategies.STRATEGIES[name]``).
+    params : dict, optional
+        The strategy's parameters. The task's platform limits (the car's ``clearance``,
+        the sensor's ``i_max``) fill those the strategy accepts and `params` leaves out.
+    """
+
+    def __init__(self, factory, params: dict | None = None):
+        self._factory = factory
+        self._params = dict(params or {})
+        self.strategy: Strategy | None = None
+        self.messages = MessageLog()
+
+    def reset(self, task: Task, seed: np.random.SeedSequence) -> None:
+        params = dict(self._params)
+        accepted = _accepted(self._factory)
+        for key, value in task.limits.items():
+            if key in accepted:
+                params.setdefault(key, value)
+        self.strategy = strategy = self._factory(**params)
+        self.messages = MessageLog()
+        strategy.start(SearchContext(task.world, task.nominal, np.array(task.starts),
+                                     np.random.default_rng(seed), self.messages))
+        if task.reachable is not None:
+            for _ in range(task.n_agents):
+                strategy.restrict(task.reachable)
+
+    @property
+    def done(self) -> bool:
+        return self.strategy.done
+
+    def act(self):
+        return self.strategy.propose()
+
+    def observe(self, percept: Percept, intent) -> None:
+        if percept.unreachable is not None:
+            point, reason = percept.unreachable
+            self.strategy.reject(intent, point, reason, percept.agent)
+        else:
+            self.strategy.observe(percept.observations, intent, percept.agent)
+
+    def status(self) -> Status:
+        return self.strategy.status
+
+    def stop(self, reason: StopReason, detail: str) -> None:
+        self.strategy.stop(reason, detail)
+
+    def report(self) -> Report | None:
+        s = self.strategy
+        if s.outcome is None:
+            return None
+        support = getattr(s, "position_support", None)
+        return Report(strategy=s.name, estimate=None if s.estimate is None else np.asarray(s.estimate, dtype=float),
+                      stop=Stop(s.outcome.reason, s.outcome.detail), region_area=s.status.region_area,
+                      n_measurements=s.n_measurements, n_samples=s.n_samples, n_rejected=s.n_rejected,
+                      params=s.params(), position_support=support() if callable(support) else None,
+                      messages=self.messages, agents=s.agents)
+
+
+def _accepted(cls) -> set[str]:
+    """The keyword parameters of strategy class `cls`."""
+    return {p.name for p in inspect.signature(cls.__init__).parameters.values() if p.kind is p.KEYWORD_ONLY}
