@@ -1,4 +1,4 @@
-"""The package layout: old module paths still import (with a warning) and nothing of ours uses them."""
+"""The package layout: the new homes of moved modules, and nothing left at the old paths."""
 
 import importlib
 import subprocess
@@ -9,7 +9,7 @@ import pytest
 
 import reciprocity
 
-#: Old path -> (new path, a public name both must give as the same object).
+#: Old path -> (new path, a public name the new path gives).
 MOVED = {
     "reciprocity.mesh": ("reciprocity.fem.mesh", "mesh_free_region"),
     "reciprocity.green": ("reciprocity.fem.green", "GreenSolver"),
@@ -21,29 +21,13 @@ MOVED = {
 }
 
 
-def _forget(name: str) -> None:
-    """Drop module `name` from the import system, so that importing it runs it again."""
-    sys.modules.pop(name, None)
-    parent, _, child = name.rpartition(".")
-    if hasattr(sys.modules[parent], child):
-        delattr(sys.modules[parent], child)
-
-
 @pytest.mark.parametrize("old", sorted(MOVED))
-def test_old_path_warns_and_gives_the_new_objects(old):
+def test_old_paths_are_gone(old):
+    """The deprecated aliases were removed after one release (CHANGELOG.md)."""
+    with pytest.raises(ModuleNotFoundError):
+        importlib.import_module(old)
     new, name = MOVED[old]
-    _forget(old)
-    with pytest.warns(DeprecationWarning, match=rf"{old} is deprecated.*import {new} instead"):
-        mod = importlib.import_module(old)
-    assert getattr(mod, name) is getattr(importlib.import_module(new), name)
-
-
-def test_readme_names_resolve_through_the_old_paths():
-    _forget("reciprocity.car_platform")
-    with pytest.warns(DeprecationWarning):
-        from reciprocity.car_platform import CAR_KEYS, CarPlatform
-    from reciprocity.platforms.car import CAR_KEYS as keys, CarPlatform as car
-    assert CAR_KEYS is keys and CarPlatform is car
+    assert getattr(importlib.import_module(new), name) is not None
 
 
 def test_platforms_module_became_the_package_with_its_names():
