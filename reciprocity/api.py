@@ -14,6 +14,8 @@ from .episode import Episode, run_episode
 from .errors import SearchError
 from .scenarios import Scenario, load_scenario
 from .strategies import STRATEGIES, Strategy
+from .strategies.parameter_bounds import STRATEGY_BOUNDS
+from .validation import check_bounds
 
 __all__ = ["run", "check", "execute", "make_strategy", "strategy_parameters"]
 
@@ -34,6 +36,7 @@ def make_strategy(name: str, **params) -> Strategy:
     if unknown:
         raise SearchError(f"unknown parameter(s) {', '.join(unknown)} for strategy {name!r}; "
                           f"valid: {', '.join(valid)}")
+    check_bounds(params, STRATEGY_BOUNDS.get(name, {}), where=f"strategy {name!r}: ")
     try:
         return STRATEGIES[name](**params)
     except (TypeError, ValueError) as exc:

@@ -37,6 +37,7 @@ import numpy as np
 from scipy.special import k0e
 
 from ..errors import SearchError
+from ..validation import number
 from .base import Reading, World
 
 __all__ = ["FORMS", "PlumeParams", "PlumeMismatch", "PlumeWorld", "plume_length", "plume_rate"]
@@ -160,12 +161,9 @@ class PlumeMismatch:
             raise SearchError(f"unknown plume mismatch option(s) {', '.join(sorted(unknown))}; "
                               f"choose from {', '.join(names)}")
         out = {}
-        for k, v in d.items():
-            ok = not isinstance(v, bool) and isinstance(v, (int, float)) and np.isfinite(v)
-            if not ok or (k != "wind_turn" and (v < 0 if k == "wind_factor" else v <= 0)):
-                raise SearchError(f"mismatch {k} must be a {'number' if k == 'wind_turn' else 'positive number'}; "
-                                  f"got {v!r}")
-            out[k] = float(v)
+        for k, v in d.items():  # factors within 1000 of nominal; wind_turn in degrees
+            lo, lo_open = {"wind_turn": (-360.0, False), "wind_factor": (0.0, False)}.get(k, (0.0, True))
+            out[k] = number(v, f"mismatch {k}", lo, 360.0 if k == "wind_turn" else 1000.0, lo_open=lo_open)
         return cls(**out)
 
     def as_dict(self) -> dict:

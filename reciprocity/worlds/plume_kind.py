@@ -37,6 +37,7 @@ from scipy.stats import poisson
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
+from ..validation import MAX_CELLS, MAX_COORD, Bound, point, whole
 from .plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, plume_length
 
 __all__ = ["PLUME", "PLUME_KEYS", "hit_probabilities", "otto_max_hits", "otto_initial_hit_probabilities"]
@@ -78,33 +79,41 @@ def otto_initial_hit_probabilities(p: PlumeParams, spacing: float, dt: float, ma
     return out / out.sum()
 
 
-def _num(params, key, default, *, positive=True, allow_zero=False, what=""):
-    v = params.get(key, default)
-    ok = not isinstance(v, bool) and isinstance(v, (int, float)) and np.isfinite(v)
-    if ok and positive:
-        ok = v > 0 or (allow_zero and v == 0)
-    if not ok:
-        need = "a non-negative number" if allow_zero else ("a positive number" if positive else "a number")
-        raise SearchError(f"plume {key} must be {need}{what}; got {v!r}")
-    return float(v)
+#: Bounds of the numeric parameters (the world's length and time units): within them the
+#: expected hits per step stay countable and one episode within memory.
+BOUNDS = {
+    "rate": Bound(1e-9, 1e6), "a": Bound(1e-6, 1e4), "D": Bound(1e-9, 1e6), "tau": Bound(1e-6, 1e6),
+    "dt": Bound(1e-6, 1e4), "found_radius": Bound(1e-6, MAX_COORD), "step": Bound(1e-6, MAX_COORD),
+    "V": Bound(0, 1e4), "wind_direction": Bound(-360, 360, unit="degrees"),
+    "max_turn": Bound(1e-6, 180, unit="degrees"),
+}
+#: Most expected hits per step at the sensor radius (Poisson sampling needs a finite mean).
+MAX_HITS_PER_STEP = 1e6
 
 
 def _check(params: dict) -> dict:
     check_keys(params, PLUME_KEYS, "plume world parameter")
     out = dict(params)
     b = params.get("bounds")
-    try:
-        x0, x1, y0, y1 = (float(v) for v in np.asarray(b, dtype=float).reshape(4))
-    except (TypeError, ValueError):
-        raise SearchError(f"plume bounds must be [x0, x1, y0, y1]; got {b!r}") from None
-    if not (np.isfinite([x0, x1, y0, y1]).all() and x1 > x0 and y1 > y0):
-        raise SearchError(f"plume bounds must be finite with x1 > x0 and y1 > y0; got {b!r}")
+    if isinstance(b, (list, tuple)) and len(b) == 2 and all(isinstance(v, (list, tuple)) for v in b):
+        b = [*b[0], *b[1]]                    # ((x0, x1), (y0, y1)), as validated before
+    r = point(b, "plume bounds", size=4) if isinstance(b, (list, tuple)) else None
+    if r is None or not (r[1] > r[0] and r[3] > r[2]):
+        raise SearchError(f"plume bounds must be [x0, x1, y0, y1], numbers within ±{MAX_COORD:g} with x1 > x0 "
+                          f"and y1 > y0; got {b!r}")
+    x0, x1, y0, y1 = (float(v) for v in r)
     out["bounds"] = ((x0, x1), (y0, y1))
-    for key, default in (("rate", 1.0), ("a", 1.0), ("D", 1.0), ("tau", 400.0), ("dt", 1.0),
-                         ("found_radius", 1.0), ("step", 1.0)):
-        out[key] = _num(params, key, default)
-    out["V"] = _num(params, "V", 0.0, allow_zero=True)
-    out["wind_direction"] = _num(params, "wind_direction", 270.0, positive=False)
+    defaults = dict(rate=1.0, a=1.0, D=1.0, tau=400.0, dt=1.0, found_radius=1.0, step=1.0, V=0.0,
+                    wind_direction=270.0, max_turn=3.0)
+    for key, bound in BOUNDS.items():
+        out[key] = float(bound.check(params.get(key, defaults[key]), f"plume {key}"))
+    if out["rate"] * out["dt"] > MAX_HITS_PER_STEP:
+        raise SearchError(f"plume rate × dt must be at most {MAX_HITS_PER_STEP:g} expected releases per step; "
+                          f"got {out['rate'] * out['dt']:g}")
+    cells = ((x1 - x0) / out["step"] + 1) * ((y1 - y0) / out["step"] + 1)
+    if params.get("motion", "turn") == "grid" and cells > MAX_CELLS:
+        raise SearchError(f"plume grid of {cells:.3g} cells (bounds / step) is larger than {MAX_CELLS}; "
+                          "raise step or shrink bounds")
     form = params.get("form", "wind")
     if form not in FORMS:
         raise SearchError(f"plume form must be one of {', '.join(FORMS)}; got {form!r}")
@@ -115,10 +124,7 @@ def _check(params: dict) -> dict:
     motion = params.get("motion", "turn")
     if motion not in MOTIONS:
         raise SearchError(f"plume motion must be one of {', '.join(MOTIONS)}; got {motion!r}")
-    out["max_turn"] = _num(params, "max_turn", 3.0)
-    n = params.get("n_turns", 7)
-    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
-        raise SearchError(f"plume n_turns must be a positive whole number; got {n!r}")
+    out["n_turns"] = whole(params.get("n_turns", 7), "plume n_turns", 1, 360)
     moves = params.get("moves", 4)
     if moves not in (4, 8):
         raise SearchError(f"plume moves must be 4 or 8; got {moves!r}")
@@ -127,21 +133,20 @@ def _check(params: dict) -> dict:
         if motion != "grid":
             raise SearchError("source: drawn (otto's protocol) needs motion: grid")
         h0 = params.get("initial_hit", "random")
-        if h0 != "random" and (isinstance(h0, bool) or not isinstance(h0, int) or h0 < 1):
-            raise SearchError(f"plume initial_hit must be 'random' or a count >= 1; got {h0!r}")
+        if h0 != "random" and (isinstance(h0, bool) or not isinstance(h0, int) or not 1 <= h0 <= 1000):
+            raise SearchError(f"plume initial_hit must be 'random' or a count from 1 to 1000; got {h0!r}")
     else:
-        try:
-            s = np.asarray(src, dtype=float).reshape(2)
-        except (TypeError, ValueError):
-            raise SearchError(f"plume source must be [x, y] or 'drawn'; got {src!r}") from None
-        if not (np.isfinite(s).all() and x0 <= s[0] <= x1 and y0 <= s[1] <= y1):
+        if not isinstance(src, (list, tuple)):
+            raise SearchError(f"plume source must be [x, y] or 'drawn'; got {src!r}")
+        s = point(src, "plume source")
+        if not (x0 <= s[0] <= x1 and y0 <= s[1] <= y1):
             raise SearchError(f"plume source {src!r} is outside the area [{x0:g}, {x1:g}] x [{y0:g}, {y1:g}]")
         out["source"] = s.tolist()
         if "initial_hit" in params:
             raise SearchError("plume initial_hit applies only with source: drawn")
     mh = params.get("max_hits")
-    if mh not in (None, "auto") and (isinstance(mh, bool) or not isinstance(mh, int) or mh < 1):
-        raise SearchError(f"plume max_hits must be null, 'auto' or a count >= 1; got {mh!r}")
+    if mh not in (None, "auto") and (isinstance(mh, bool) or not isinstance(mh, int) or not 1 <= mh <= 1000):
+        raise SearchError(f"plume max_hits must be null, 'auto' or a count from 1 to 1000; got {mh!r}")
     m = params.get("mismatch") or {}
     if isinstance(m, PlumeMismatch):
         m = m.as_dict()

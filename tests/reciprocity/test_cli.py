@@ -68,7 +68,7 @@ def test_bad_input_is_refused_before_any_heavy_work(monkeypatch, capsys):
         raise AssertionError("meshed before validating")
     monkeypatch.setattr(mesh_mod, "cached_mesh", boom)
     assert main(["run", "--arena", "paper", "--strategy", "reciprocity", "--set", "eps=3", "--quiet"]) == 2
-    assert "eps must lie strictly between 0 and 1" in capsys.readouterr().err
+    assert "eps must be a number in (0, 1); got 3" in capsys.readouterr().err
 
 
 def test_scenarios_and_strategies_are_listed(capsys):

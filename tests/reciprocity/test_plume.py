@@ -188,10 +188,10 @@ def test_voi_team_shares_messages_and_voi_sends_fewer():
 
 # -- bad input ----------------------------------------------------------------------------
 @pytest.mark.parametrize("override, match", [
-    ({"D": 0}, "D must be a positive"), ({"tau": -1}, "tau must be a positive"),
-    ({"V": -0.1}, "V must be a non-negative"), ({"a": 0}, "a must be a positive"),
-    ({"rate": 0}, "rate must be a positive"), ({"source": [90, 0]}, "outside the area"),
-    ({"form": "gauss"}, "form must be one of"), ({"mismatch": {"rate_factor": 0}}, "positive"),
+    ({"D": 0}, r"plume D must be a number in \[1e-09, 1e\+06\]"), ({"tau": -1}, "plume tau must be a number in"),
+    ({"V": -0.1}, r"plume V must be a number in \[0, 10000\]"), ({"a": 0}, "plume a must be a number in"),
+    ({"rate": 0}, "plume rate must be a number in"), ({"source": [90, 0]}, "outside the area"),
+    ({"form": "gauss"}, "form must be one of"), ({"mismatch": {"rate_factor": 0}}, r"in \(0, 1000\]"),
     ({"mismatch": {"speed": 2}}, "unknown plume mismatch"), ({"a": 10}, "must exceed the sensor radius"),
 ])
 def test_bad_world_parameters_raise_one_line_errors(override, match):
@@ -206,7 +206,7 @@ def test_start_on_the_source_is_refused():
     assert "\n" not in str(exc.value)
 
 
-@pytest.mark.parametrize("params, match", [({"particles": 0}, "particles"), ({"particles": 9}, "at least 10"),
+@pytest.mark.parametrize("params, match", [({"particles": 0}, "particles"), ({"particles": 9}, "from 10 to 100000"),
                                            ({"share": "some"}, "share"),
                                            ({"alpha": -1}, "alpha")])
 def test_bad_strategy_parameters(params, match):
