@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from numbers import Real
 from functools import cached_property
 from typing import Iterable
 
@@ -14,13 +16,20 @@ from shapely.validation import explain_validity
 
 from .errors import ArenaError
 
-__all__ = ["Arena", "as_points", "DEFAULT_STRENGTH"]
+__all__ = ["Arena", "as_points", "DEFAULT_STRENGTH", "MAX_COORD_CM", "MAX_STRENGTH", "MAX_VERTICES"]
 
 #: Default source strength ``c``: puts the built-in arenas' signal on a 0-255 scale.
 DEFAULT_STRENGTH = 850.0
 
 #: Smallest admissible side of an arena or obstacle bounding box, cm.
 MIN_SIZE_CM = 1e-3
+#: Largest absolute coordinate of any point of an arena, cm (1 km: far beyond any testbed,
+#: and far from where areas and distances overflow).
+MAX_COORD_CM = 1e5
+#: Largest source strength ``c`` (the built-in arenas use 850).
+MAX_STRENGTH = 1e6
+#: Most vertices of one polygon, and of all polygons of an arena together.
+MAX_VERTICES = 20_000
 
 
 def as_points(points, name: str = "points") -> np.ndarray:
@@ -38,12 +47,24 @@ def as_points(points, name: str = "points") -> np.ndarray:
         raise ArenaError(f"{name} must have shape (n, 2) (x, y in cm); got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise ArenaError(f"{name} contains NaN or infinite coordinates; give finite numbers in cm")
+    if arr.size and np.abs(arr).max() > MAX_COORD_CM:
+        raise ArenaError(f"{name} must lie within ±{MAX_COORD_CM:g} cm of the origin; got a coordinate "
+                         f"of {np.abs(arr).max():g}")
     return arr
+
+
+def _check_size(obstacles: list) -> None:
+    """Refuse arenas whose obstacles have more than :data:`MAX_VERTICES` vertices together."""
+    n = sum(len(o) for o in obstacles)
+    if n > MAX_VERTICES:
+        raise ArenaError(f"the obstacles have {n} vertices together; at most {MAX_VERTICES} are allowed")
 
 
 def _polygon(vertices, what: str) -> np.ndarray:
     """Validate one simple polygon and return its vertices, (n, 2), counter-clockwise."""
     v = as_points(vertices, what)
+    if len(v) > MAX_VERTICES:
+        raise ArenaError(f"{what} has {len(v)} vertices; at most {MAX_VERTICES} are allowed")
     if len(v) > 1 and np.allclose(v[0], v[-1]):
         v = v[:-1]  # a repeated closing vertex is accepted and dropped
     if len(v) < 3:
@@ -136,6 +157,7 @@ class Arena:
         """
         b = _polygon(boundary, "the arena boundary")
         obs = [_polygon(o, f"obstacle {i}") for i, o in enumerate(obstacles)]
+        _check_size(obs)
         arena = cls(b, obs, str(name), None, 1.0, None, None)
         arena._check_obstacles()
         return arena.with_scenario(source=source, strength=strength, start=start)
@@ -151,14 +173,16 @@ class Arena:
         nodes on the exact circle.
         """
         c = as_points(center, "disk center")[0]
-        r = float(radius)
-        if not np.isfinite(r) or r <= MIN_SIZE_CM:
-            raise ArenaError(f"disk radius must be a positive number of cm; got {radius!r}")
+        r = float(radius) if isinstance(radius, Real) and not isinstance(radius, bool) else math.nan
+        if not MIN_SIZE_CM < r <= MAX_COORD_CM:
+            raise ArenaError(f"disk radius must be a number in ({MIN_SIZE_CM:g}, {MAX_COORD_CM:g}] cm; "
+                             f"got {radius!r}")
         if int(n_boundary) < 16:
             raise ArenaError(f"n_boundary must be at least 16; got {n_boundary}")
         a = np.linspace(0.0, 2 * np.pi, int(n_boundary), endpoint=False)
         b = c + r * np.column_stack([np.cos(a), np.sin(a)])
         obs = [_polygon(o, f"obstacle {i}") for i, o in enumerate(obstacles)]
+        _check_size(obs)
         arena = cls(b, obs, str(name), None, 1.0, None, (float(c[0]), float(c[1]), r))
         arena._check_obstacles()
         return arena.with_scenario(source=source, strength=strength, start=start)
@@ -171,9 +195,11 @@ class Arena:
         validated to lie in the free region).
         """
         src = self.source if source is None else self._check_point(source, "the source")
+        ok = strength is None or (isinstance(strength, Real) and not isinstance(strength, bool)
+                                  and 0 < float(strength) <= MAX_STRENGTH)
+        if not ok:
+            raise ArenaError(f"strength must be a number in (0, {MAX_STRENGTH:g}]; got {strength!r}")
         c = self.strength if strength is None else float(strength)
-        if not np.isfinite(c) or c <= 0:
-            raise ArenaError(f"the source strength must be a positive number; got {strength!r}")
         st = self.start
         if start is not None:
             s = np.asarray(start, dtype=float).ravel()

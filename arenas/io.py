@@ -9,10 +9,11 @@ File format (all lengths in cm, the start heading in degrees)::
     obstacles:                       # optional list of simple polygons
       - [[20, 20], [40, 20], [40, 26], [20, 26]]
     source: [70.21, 70.21]           # optional true source position
-    strength: 850           # optional source strength c (default 850)
+    strength: 850                    # optional source strength c in (0, 1e6] (default 850)
     start: [128, 12, 135]            # optional start: x, y[, heading in degrees]
 
-Files are read by the strict loader of :mod:`arenas.files`: safe YAML (no Python objects),
+Coordinates lie within ±1e5 cm, a disk radius in (0, 1e5] cm; an arena has at most 1000
+obstacles and 20000 obstacle vertices. Files are read by the strict loader of :mod:`arenas.files`: safe YAML (no Python objects),
 at most 1 MB of UTF-8 text, no duplicate keys, aliases capped.
 """
 
@@ -27,7 +28,7 @@ import yaml
 
 from .errors import ArenaError
 from .files import load_yaml
-from .geometry import DEFAULT_STRENGTH, Arena
+from .geometry import DEFAULT_STRENGTH, MAX_COORD_CM, MAX_STRENGTH, Arena
 
 __all__ = ["load", "save", "builtin_names", "from_dict", "to_dict", "DEFAULT_STRENGTH"]
 
@@ -93,11 +94,10 @@ def _read_yaml(src, label: str) -> dict:
     return data
 
 
-def _number(value, key: str, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ArenaError(f"{where}: {key!r} must be a number; got {value!r}")
-    if not math.isfinite(value):
-        raise ArenaError(f"{where}: {key!r} must be finite; got {value!r}")
+def _number(value, key: str, where: str, lo: float = -MAX_COORD_CM, hi: float = MAX_COORD_CM) -> float:
+    """`value` as a float in ``[lo, hi]`` (coordinates by default), else ArenaError."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= value <= hi:
+        raise ArenaError(f"{where}: {key!r} must be a number in [{lo:g}, {hi:g}]; got {value!r}")
     return float(value)
 
 
@@ -127,9 +127,13 @@ def from_dict(data: dict, where: str = "arena") -> Arena:
     obstacles = data.get("obstacles") or []
     if not isinstance(obstacles, list):
         raise ArenaError(f"{where}: 'obstacles' must be a list of polygons; got {obstacles!r}")
+    if len(obstacles) > 1000:
+        raise ArenaError(f"{where}: 'obstacles' lists {len(obstacles)} polygons; at most 1000 are allowed")
     obstacles = [_coords(o, f"obstacles[{i}]", where, "of [x, y] vertices")
                  for i, o in enumerate(obstacles)]
-    strength = _number(data.get("strength", DEFAULT_STRENGTH), "strength", where)
+    strength = data.get("strength", DEFAULT_STRENGTH)
+    if isinstance(strength, bool) or not isinstance(strength, (int, float)) or not 0 < strength <= MAX_STRENGTH:
+        raise ArenaError(f"{where}: 'strength' must be a number in (0, {MAX_STRENGTH:g}]; got {strength!r}")
     source = data.get("source")
     if source is not None:
         source = _coords(source, "source", where, "[x, y]")
@@ -152,7 +156,7 @@ def from_dict(data: dict, where: str = "arena") -> Arena:
                 raise ArenaError(f"{where}: 'disk' must be {{center: [x, y], radius: r}}; "
                                  f"got {disk!r}")
             center = _coords(disk["center"], "disk.center", where, "[x, y]")
-            radius = _number(disk["radius"], "disk.radius", where)
+            radius = _number(disk["radius"], "disk.radius", where, 0.0, MAX_COORD_CM)
             return Arena.disk(center, radius, obstacles, **kw)
         boundary = _coords(data["boundary"], "boundary", where, "of [x, y] vertices")
         return Arena.from_polygons(boundary, obstacles, **kw)

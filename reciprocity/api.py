@@ -12,10 +12,10 @@ import inspect
 
 from .episode import Episode, run_episode
 from .errors import SearchError
-from .scenarios import Scenario, load_scenario
+from .scenarios import MAX_AGENTS, Scenario, load_scenario
 from .strategies import STRATEGIES, Strategy
 from .strategies.parameter_bounds import STRATEGY_BOUNDS
-from .validation import check_bounds
+from .validation import check_bounds, whole
 
 __all__ = ["run", "check", "execute", "make_strategy", "strategy_parameters"]
 
@@ -69,8 +69,9 @@ def check(scenario: str | Scenario, strategy: str, *, params: dict | None = None
         raise SearchError(f"platform {plat!r} does not apply to {sc.world} worlds; choose one of "
                           f"{', '.join(sc.kind.platforms)}")
     n = _agents(cls, sc, agents)
-    if n < 1:
-        raise SearchError(f"agents must be at least 1; got {agents}")
+    if sc.starts is not None and 1 < len(sc.starts) < n:
+        raise SearchError(f"scenario {sc.name!r} gives {len(sc.starts)} start poses for {n} agents; give "
+                          "one pose (shared) or one per agent")
     make_strategy(strategy, **(params or {}))
     if plat == "car":
         from .platforms.car import check_car_options
@@ -81,8 +82,7 @@ def check(scenario: str | Scenario, strategy: str, *, params: dict | None = None
 def _agents(cls, sc: Scenario, agents: int | None) -> int:
     if agents is None:
         return cls.agents or sc.agents
-    if isinstance(agents, bool) or not isinstance(agents, int):
-        raise SearchError(f"agents must be a whole number; got {agents!r}")
+    agents = whole(agents, "agents", 1, MAX_AGENTS)
     if cls.agents is not None and agents != cls.agents:
         raise SearchError(f"strategy {cls.name!r} directs {cls.agents} observer(s); got agents={agents}")
     return agents

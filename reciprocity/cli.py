@@ -159,13 +159,13 @@ def cmd_strategies(args) -> int:
 def _world_overrides(args) -> dict:
     """The --source/--strength/--start/--noise/--mismatch flags as world overrides."""
     world = {}
-    if args.source:
+    if args.source is not None:
         world["source"] = _floats(args.source, "--source", (2,))
     if args.strength is not None:
         if not math.isfinite(args.strength) or args.strength <= 0:
             raise ReciprocityError(f"--strength must be a positive number; got {args.strength!r}")
         world["strength"] = args.strength
-    if args.start:
+    if args.start is not None:
         st = _floats(args.start, "--start", (2, 3))
         world["start"] = st[:2] + ([math.radians(st[2])] if len(st) == 3 else [])
     if args.noise is not None:

@@ -26,12 +26,16 @@ from importlib import resources
 from pathlib import Path
 from typing import Callable
 
+import math
+from numbers import Real
+
 import numpy as np
 import arenas
 from arenas.files import load_yaml
 
 from .errors import SearchError
 from .registry import LazyRegistry
+from .validation import MAX_COORD, number, whole
 
 __all__ = ["Scenario", "WorldKind", "WORLD_KINDS", "check_keys", "register_world", "load_scenario",
            "scenario_names", "scenario_description"]
@@ -39,6 +43,10 @@ __all__ = ["Scenario", "WorldKind", "WORLD_KINDS", "check_keys", "register_world
 #: Keys every scenario file may have; the rest are the world's own parameters.
 COMMON_KEYS = ("name", "description", "world", "platform", "start", "success_radius",
                "max_steps", "agents")
+#: Most observers of one episode.
+MAX_AGENTS = 64
+#: Largest step cap of one episode.
+MAX_STEPS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -58,6 +66,9 @@ class WorldKind:
         Platform name -> ``factory(world, scenario, options) -> Platform``.
     default_start : callable, optional
         ``default_start(world, rng) -> (3,)`` pose when the scenario gives none.
+    check_start : callable, optional
+        ``check_start(params, starts)``: refuse start poses (n, 3) outside the world that
+        `params` (checked) describe, cheaply, before any world is built.
     """
 
     name: str
@@ -65,6 +76,7 @@ class WorldKind:
     build: Callable
     platforms: dict
     default_start: Callable | None = None
+    check_start: Callable | None = None
 
 
 #: World kinds by name; a built-in kind's module is imported on first use of its name.
@@ -147,7 +159,9 @@ class Scenario:
             starts = _starts(over.pop("start"), f"scenario {self.name!r}", degrees=False)
         params = dict(self.params)
         params.update(over)
-        return Scenario(self.name, self.world, self.kind.check(params), self.platform, starts,
+        params = self.kind.check(params)
+        _check_starts(self.kind, params, starts, f"scenario {self.name!r}")
+        return Scenario(self.name, self.world, params, self.platform, starts,
                         self.success_radius, self.max_steps, self.agents, self.description)
 
     def build_world(self, seed: int):
@@ -158,8 +172,8 @@ class Scenario:
         return world
 
     def start_poses(self, world, n_agents: int, seed: int) -> np.ndarray:
-        """Start poses (n_agents, 3): the scenario's (the first repeated if fewer are
-        given), else the world's default."""
+        """Start poses (n_agents, 3): the scenario's (one pose shared by all agents, or the
+        first `n_agents` of its list), else the world's default."""
         if self.starts is not None:
             s = self.starts
             return np.array([s[min(k, len(s) - 1)] for k in range(n_agents)], dtype=float)
@@ -170,16 +184,33 @@ class Scenario:
 
 
 def _starts(value, where: str, *, degrees: bool) -> np.ndarray:
-    arr = np.asarray(value, dtype=float) if value is not None else None
-    if arr is None or arr.ndim not in (1, 2) or arr.shape[-1] not in (2, 3) or not np.all(np.isfinite(arr)):
-        raise SearchError(f"{where}: start must be [x, y] or [x, y, heading] (or a list of them); got {value!r}")
-    arr = np.atleast_2d(arr)
+    """Start poses (n, 3) from ``[x, y[, heading]]`` or a list of such, each number finite and
+    coordinates within ±:data:`~reciprocity.validation.MAX_COORD`."""
+    poses = value if isinstance(value, (list, tuple, np.ndarray)) and len(value) and isinstance(
+        value[0], (list, tuple, np.ndarray)) else [value]
+    ok = 1 <= len(poses) <= MAX_AGENTS and all(
+        isinstance(p, (list, tuple, np.ndarray)) and len(p) in (2, 3) and all(
+            isinstance(v, Real) and not isinstance(v, bool) and math.isfinite(float(v))
+            and abs(float(v)) <= MAX_COORD for v in p) for p in poses)
+    if not ok or len({len(p) for p in poses}) != 1:
+        raise SearchError(f"{where}: start must be [x, y] or [x, y, heading_deg] (numbers within ±{MAX_COORD:g}), "
+                          f"or a list of at most {MAX_AGENTS} of them; got {value!r}")
+    arr = np.array(poses, dtype=float)
     if arr.shape[1] == 2:
         arr = np.column_stack([arr, np.zeros(len(arr))])
     elif degrees:
         arr = arr.copy()
         arr[:, 2] = np.radians(arr[:, 2])
     return arr
+
+
+def _check_starts(kind: WorldKind, params: dict, starts, where: str) -> None:
+    """Refuse start poses outside the world (the kind's own check)."""
+    if starts is not None and kind.check_start is not None:
+        try:
+            kind.check_start(params, starts)
+        except SearchError as exc:
+            raise SearchError(f"{where}: {exc}") from None
 
 
 def _scenario_files() -> dict:
@@ -224,30 +255,40 @@ def _arena_scenario(data: dict, src, label: str) -> dict:
 
 
 def from_dict(data: dict, name: str = "scenario") -> Scenario:
-    """A :class:`Scenario` from the mapping of a scenario file."""
+    """A :class:`Scenario` from the mapping of a scenario file.
+
+    The common keys are bounded: ``success_radius`` in (0, 1e5], ``max_steps`` from 1 to
+    1e6, ``agents`` from 1 to 64, one start or one per agent, inside the world.
+    """
     data = dict(data)
     where = f"scenario {name!r}"
     kind = data.pop("world")
-    if kind not in WORLD_KINDS:
+    if not isinstance(kind, str) or kind not in WORLD_KINDS:
         raise SearchError(f"{where}: unknown world kind {kind!r}; choose one of {', '.join(WORLD_KINDS)}")
     common = {k: data.pop(k) for k in COMMON_KEYS if k in data}
     wk = WORLD_KINDS[kind]
-    platform = str(common.get("platform", next(iter(wk.platforms))))
-    if platform not in wk.platforms:
+    platform = common.get("platform", next(iter(wk.platforms)))
+    if not isinstance(platform, str) or platform not in wk.platforms:
         raise SearchError(f"{where}: platform {platform!r} does not apply to {kind} worlds; "
                           f"choose one of {', '.join(wk.platforms)}")
-    radius = common.get("success_radius", 5.0)
-    if isinstance(radius, bool) or not isinstance(radius, (int, float)) or not radius > 0:
-        raise SearchError(f"{where}: success_radius must be a positive number; got {radius!r}")
+    pre = f"{where}: "
+    radius = number(common.get("success_radius", 5.0), "success_radius", 0.0, MAX_COORD, where=pre,
+                    lo_open=True)
     cap = common.get("max_steps")
-    if cap is not None and (isinstance(cap, bool) or not isinstance(cap, int) or cap < 1):
-        raise SearchError(f"{where}: max_steps must be a positive whole number; got {cap!r}")
-    agents = common.get("agents", 1)
-    if isinstance(agents, bool) or not isinstance(agents, int) or agents < 1:
-        raise SearchError(f"{where}: agents must be a positive whole number; got {agents!r}")
+    cap = None if cap is None else whole(cap, "max_steps", 1, MAX_STEPS, where=pre)
+    agents = whole(common.get("agents", 1), "agents", 1, MAX_AGENTS, where=pre)
     starts = _starts(common["start"], where, degrees=True) if common.get("start") is not None else None
-    return Scenario(str(common.get("name", name)), kind, wk.check(data), platform, starts,
-                    float(radius), cap, agents, str(common.get("description", "")))
+    if starts is not None and 1 < len(starts) < agents:
+        raise SearchError(f"{where}: start gives {len(starts)} poses for {agents} agents; give one pose "
+                          "(shared) or one per agent")
+    params = wk.check(data)
+    _check_starts(wk, params, starts, where)
+    text = {k: common.get(k, d) for k, d in (("name", name), ("description", ""))}
+    for k, v in text.items():
+        if not isinstance(v, (str, int, float)) or isinstance(v, bool):
+            raise SearchError(f"{where}: {k} must be text; got {v!r}")
+    return Scenario(str(text["name"]), kind, params, platform, starts, radius, cap, agents,
+                    str(text["description"]))
 
 
 def load_scenario(name_or_path) -> Scenario:

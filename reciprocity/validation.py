@@ -17,7 +17,7 @@ import numpy as np
 
 from .errors import SearchError
 
-__all__ = ["Bound", "number", "whole", "point", "check_bounds", "MAX_COORD", "MAX_CELLS"]
+__all__ = ["Bound", "number", "whole", "point", "check_bounds", "starts_in_box", "MAX_COORD", "MAX_CELLS"]
 
 #: Largest absolute coordinate of any world, in its length unit (cm for arenas).
 MAX_COORD = 1e5
@@ -146,3 +146,12 @@ def check_bounds(params: dict, bounds: dict, where: str = "") -> None:
         b = bounds.get(key)
         if b is not None:
             b.check(value, key, where)
+
+
+def starts_in_box(starts: np.ndarray, box, name: str) -> None:
+    """Refuse start poses (n, 3) outside the rectangle ``box = (x0, x1, y0, y1)``, called `name`."""
+    x0, x1, y0, y1 = box
+    for s in starts:
+        if not (x0 <= s[0] <= x1 and y0 <= s[1] <= y1):
+            raise SearchError(f"start ({s[0]:g}, {s[1]:g}) lies outside the {name} "
+                              f"[{x0:g}, {x1:g}] × [{y0:g}, {y1:g}]; choose a point inside it")

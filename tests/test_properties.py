@@ -30,11 +30,7 @@ from test_bad_inputs import ANSWER_S, Hang, _load, _world_bases, watchdog
 
 #: Properties that fail today: test name -> "owner: what happens". Remove a line when its
 #: fix lands (the marks are strict).
-XFAIL: dict[str, str] = {
-    "scenario-poisson": "bounds: TypeError: unhashable type: 'dict' (world: {})",
-    "scenario-lattice": "bounds: TypeError: float() argument must be ... not 'dict' (source: [{}, 7])",
-    "scenario-plume": "bounds: TypeError: unhashable type: 'dict' (world: {})",
-}
+XFAIL: dict[str, str] = {}
 
 SETTINGS = settings(max_examples=100, deadline=None, derandomize=True, database=None,
                     phases=[Phase.explicit, Phase.reuse, Phase.generate],

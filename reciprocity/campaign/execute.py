@@ -103,7 +103,9 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
         scheduler = scheduler or spec.scheduler
         tls = tls or spec.tls
     check_cluster(workers, scheduler, tls)
-    with ResultStore.open(directory, spec) as store:
+    # connect first: a scheduler that does not answer must leave the folder untouched
+    with dask_client(workers, scheduler, tls=tls, timeout=timeout) as client, \
+            ResultStore.open(directory, spec) as store:
         done = store.finished_ids()
         n_todo = sum(1 for t in spec.tasks() if t.episode_id not in done)
         result = CampaignResult(Path(directory), spec.n_episodes, spec.n_episodes - n_todo)
@@ -111,15 +113,14 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
             result.wall_time_s = time.perf_counter() - t0
             return result
         pending = (t for t in spec.tasks() if t.episode_id not in done)
-        with dask_client(workers, scheduler, tls=tls, timeout=timeout) as client:
-            threads = sum(client.nthreads().values()) or 1
-            show = sys.stderr.isatty() if progress is None else progress
-            with tqdm(total=spec.n_episodes, initial=result.n_skipped, unit="ep", desc=spec.name,
-                      disable=not show, file=sys.stderr, dynamic_ncols=True) as bar:
-                bar.set_postfix_str("failed 0")
-                _drive(client, pending, store, result, bar, window or max(16, 8 * threads),
-                       flush_rows, flush_seconds)
-            result.cache_stats = client.run(cache_stats)
+        threads = sum(client.nthreads().values()) or 1
+        show = sys.stderr.isatty() if progress is None else progress
+        with tqdm(total=spec.n_episodes, initial=result.n_skipped, unit="ep", desc=spec.name,
+                  disable=not show, file=sys.stderr, dynamic_ncols=True) as bar:
+            bar.set_postfix_str("failed 0")
+            _drive(client, pending, store, result, bar, window or max(16, 8 * threads),
+                   flush_rows, flush_seconds)
+        result.cache_stats = client.run(cache_stats)
     result.wall_time_s = time.perf_counter() - t0
     return result
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
-from ..validation import MAX_COORD, Bound, point, whole
+from ..validation import MAX_COORD, Bound, point, starts_in_box, whole
 from .filament import FilamentParams, FilamentWorld
 
 __all__ = ["FILAMENT", "FILAMENT_KEYS", "filament_params", "source_cell"]
@@ -117,4 +117,9 @@ def _walker(world: FilamentWorld, scenario, options: dict):
     return WalkerPlatform(None, max_step=world.speed * dt, dt=dt)
 
 
-FILAMENT = register_world(WorldKind("filament", _check, _build, {"walker": _walker}, _default_start))
+def _check_start(params: dict, starts: np.ndarray) -> None:
+    starts_in_box(starts, params["region"], "region")
+
+
+FILAMENT = register_world(WorldKind("filament", _check, _build, {"walker": _walker}, _default_start,
+                                    _check_start))

@@ -26,6 +26,10 @@ __all__ = ["LatticeWorld", "draw_links", "green_row", "PERCOLATION_THRESHOLD", "
 PERCOLATION_THRESHOLD = 0.5
 #: Draws of the missing links tried before giving up on a connected lattice.
 MAX_REDRAWS = 20000
+#: Links drawn in all the draws together before giving up (about a second of work): a
+#: large lattice whose every node must stay connected is rarely so, and is answered with
+#: an error instead of minutes of redraws.
+MAX_REDRAW_LINKS = 10_000_000
 
 
 def _clusters(space: LatticeSpace) -> np.ndarray:
@@ -60,7 +64,8 @@ def draw_links(space: LatticeSpace, p: float, rng: np.random.Generator, *, conne
     n_links = len(space.links)
     n_cut = int(round(p * n_links))
     keep = np.asarray(keep, dtype=np.int64)
-    for draw in range(1, MAX_REDRAWS + 1):
+    tries = max(10, min(MAX_REDRAWS, MAX_REDRAW_LINKS // max(n_links, 1)))
+    for draw in range(1, tries + 1):
         present = np.ones(n_links, dtype=bool)
         present[rng.choice(n_links, n_cut, replace=False)] = False
         lab = _clusters(space.with_links(present))
@@ -70,8 +75,8 @@ def draw_links(space: LatticeSpace, p: float, rng: np.random.Generator, *, conne
             ok = ok and np.all(t == t[0]) and (keep.size == 0 or lab[keep[0]] == t[0])
         if ok:
             return present, draw
-    raise SearchError(f"no connected lattice in {MAX_REDRAWS} draws with p = {p:g}; lower p "
-                      "or use connectivity: nodes")
+    raise SearchError(f"no connected lattice in {tries} draws with p = {p:g} and {n_links} links; lower p, "
+                      "shrink radius or use connectivity: nodes")
 
 
 def green_row(space: LatticeSpace, source: int) -> np.ndarray:

@@ -8,15 +8,20 @@ from scipy.sparse.csgraph import connected_components
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..spaces.lattice import LatticeSpace
+from ..validation import point
 from .lattice import PERCOLATION_THRESHOLD, LatticeWorld, draw_links
 
-__all__ = ["LATTICE", "LATTICE_KEYS", "MIN_RADIUS"]
+__all__ = ["LATTICE", "LATTICE_KEYS", "MIN_RADIUS", "MAX_RADIUS"]
 
 #: Parameters of a ``lattice`` scenario.
 LATTICE_KEYS = ("radius", "p", "source", "strength", "entry", "slip", "primary", "secondary",
                 "connectivity", "lattice_seed", "map")
 #: Smallest lattice radius accepted.
 MIN_RADIUS = 2
+#: Largest lattice radius accepted (about 32,000 nodes and 64,000 links).
+MAX_RADIUS = 100
+#: Largest release rate A0.
+MAX_STRENGTH = 1e6
 
 
 def _number(params, key, default, lo, hi, what, *, lo_open=False, hi_open=False):
@@ -30,9 +35,10 @@ def _number(params, key, default, lo, hi, what, *, lo_open=False, hi_open=False)
 
 
 def _node(space: LatticeSpace, value, key: str, *, transient: bool) -> list:
-    arr = np.asarray(value, dtype=float) if value is not None else None
-    if arr is None or arr.shape != (2,) or not np.all(np.isfinite(arr)):
-        raise SearchError(f"{key} must be a lattice node [x, y] (integers); got {value!r}")
+    try:
+        arr = point(value, key)
+    except SearchError:
+        raise SearchError(f"{key} must be a lattice node [x, y] (integers); got {value!r}") from None
     i = int(space.index_of(arr)[0])
     ring = "x² + y² <= R0²" if transient else "x² + y² < (R0 + 1)²"
     if i < 0 or (transient and not space.transient[i]):
@@ -55,12 +61,13 @@ def _pair(params, key, default) -> tuple:
 def _check(params: dict) -> dict:
     check_keys(params, LATTICE_KEYS, "lattice world parameter")
     out = dict(params)
-    out["radius"] = _number(params, "radius", 9, MIN_RADIUS, 1e3, f"a lattice radius R0 in [{MIN_RADIUS}, 1000]")
+    out["radius"] = _number(params, "radius", 9, MIN_RADIUS, MAX_RADIUS,
+                            f"a lattice radius R0 in [{MIN_RADIUS}, {MAX_RADIUS}]")
     out["p"] = _number(params, "p", 0.35, 0.0, PERCOLATION_THRESHOLD,
                        "a fraction of missing links in [0, 0.5) (below the percolation threshold 1/2)",
                        hi_open=True)
-    out["strength"] = _number(params, "strength", 12.0, 0.0, np.inf, "a positive release rate A0",
-                              lo_open=True, hi_open=True)
+    out["strength"] = _number(params, "strength", 12.0, 0.0, MAX_STRENGTH,
+                              f"a release rate A0 in (0, {MAX_STRENGTH:g}]", lo_open=True)
     out["slip"] = _number(params, "slip", 0.04, 0.0, 1.0, "a probability p_e in [0, 1)", hi_open=True)
     space = LatticeSpace(out["radius"])
     out["source"] = _node(space, params.get("source"), "source", transient=True)
@@ -97,6 +104,15 @@ def _build(params: dict, rng: np.random.Generator) -> LatticeWorld:
     return LatticeWorld(full.with_links(present), params["source"], params["strength"],
                         primary=params["primary"], secondary=params["secondary"], p=params["p"],
                         slip=params["slip"], draws=draws, map_known=params.get("map") == "known")
+
+
+def _starts_on_lattice(params: dict, starts: np.ndarray) -> None:
+    """Refuse starts that are not nodes of the lattice of `params` (before any draw)."""
+    space = LatticeSpace(params["radius"])
+    for s in starts:
+        if int(space.index_of(s[:2])[0]) < 0:
+            raise SearchError(f"start ({s[0]:g}, {s[1]:g}) is not a lattice node (integers, "
+                              f"x² + y² < (R0 + 1)², R0 = {space.radius:g})")
 
 
 def _check_start(world: LatticeWorld, scenario) -> None:
@@ -139,4 +155,4 @@ def _default_start(world: LatticeWorld, rng: np.random.Generator) -> np.ndarray:
 
 
 LATTICE = register_world(WorldKind("lattice", _check, _build, {"lattice": _lattice, "walker": _walker},
-                                   _default_start))
+                                   _default_start, _starts_on_lattice))

@@ -37,7 +37,7 @@ from scipy.stats import poisson
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
-from ..validation import MAX_CELLS, MAX_COORD, Bound, point, whole
+from ..validation import MAX_CELLS, MAX_COORD, Bound, point, starts_in_box, whole
 from .plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, plume_length
 
 __all__ = ["PLUME", "PLUME_KEYS", "hit_probabilities", "otto_max_hits", "otto_initial_hit_probabilities"]
@@ -231,4 +231,9 @@ def _walker(world: PlumeWorld, scenario, options: dict):
     return WalkerPlatform(None, slip=slip, max_step=reach * (1 + 1e-9), dt=nom["dt"])
 
 
-PLUME = register_world(WorldKind("plume", _check, _build, {"walker": _walker}, _default_start))
+def _check_start(params: dict, starts: np.ndarray) -> None:
+    (x0, x1), (y0, y1) = params["bounds"]
+    starts_in_box(starts, (x0, x1, y0, y1), "plume bounds")
+
+
+PLUME = register_world(WorldKind("plume", _check, _build, {"walker": _walker}, _default_start, _check_start))

@@ -9,12 +9,15 @@ from arenas import Arena, ArenaError
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
+from ..validation import number, point
 from .poisson import Mismatch, PoissonWorld, TRUTH_MESH_RATIO
 
 __all__ = ["POISSON", "POISSON_KEYS"]
 
 #: Parameters of a ``poisson`` scenario.
 POISSON_KEYS = ("arena", "source", "strength", "noise", "truth_h", "mismatch")
+#: Largest sensor noise (standard deviation, signal units).
+MAX_NOISE = 1e6
 
 
 def _check(params: dict) -> dict:
@@ -30,7 +33,10 @@ def _check(params: dict) -> dict:
             raise SearchError("a poisson scenario needs an arena: a built-in name, a file or a mapping")
         else:
             arena = arenas.load(a)
-        arena = arena.with_scenario(source=params.get("source"), strength=params.get("strength"))
+        source = params.get("source")
+        if source is not None:
+            source = point(source, "source")
+        arena = arena.with_scenario(source=source, strength=params.get("strength"))
     except ArenaError as exc:
         raise SearchError(str(exc)) from None
     if arena.source is None:
@@ -38,10 +44,7 @@ def _check(params: dict) -> dict:
     out["arena"] = arena
     out["source"] = arena.source.tolist()
     out["strength"] = float(arena.strength)
-    noise = params.get("noise", 12.0)
-    if isinstance(noise, bool) or not isinstance(noise, (int, float)) or not np.isfinite(noise) or noise < 0:
-        raise SearchError(f"noise must be a non-negative number (signal units); got {noise!r}")
-    out["noise"] = float(noise)
+    out["noise"] = number(params.get("noise", 12.0), "noise", 0.0, MAX_NOISE, unit="(signal units)")
     h = params.get("truth_h", TRUTH_MESH_RATIO)
     if isinstance(h, bool) or not isinstance(h, (int, float)) or not 0.1 <= h <= 10:
         raise SearchError(f"truth_h must be a mesh size in cm between 0.1 and 10; got {h!r}")
@@ -53,6 +56,15 @@ def _check(params: dict) -> dict:
         raise SearchError(f"mismatch must be a mapping of options; got {m!r}")
     out["mismatch"] = Mismatch.from_dict(m)
     return out
+
+
+def _check_start(params: dict, starts: np.ndarray) -> None:
+    arena = params["arena"]
+    inside = arena.contains(starts[:, :2])
+    if not np.all(inside):
+        s = starts[int(np.argmin(inside))]
+        raise SearchError(f"start ({s[0]:g}, {s[1]:g}) cm is outside the free region of arena {arena.name!r} "
+                          "(outside the boundary or inside an obstacle)")
 
 
 def _build(params: dict, rng: np.random.Generator) -> PoissonWorld:
@@ -84,4 +96,4 @@ def _car(world: PoissonWorld, scenario, options: dict):
 
 
 POISSON = register_world(WorldKind("poisson", _check, _build, {"point": _point, "car": _car},
-                                   _default_start))
+                                   _default_start, _check_start))

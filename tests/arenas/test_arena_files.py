@@ -29,7 +29,7 @@ def _write(tmp_path, text):
     ("obstacles: []\n", "exactly one of 'boundary'"),
     ("boundary: [[0, 0], [1, 0], [1, 1]]\nwalls: 3\n", "unknown key"),
     ("boundary: [[0, 0], [1, 0], [1, one]]\n", "must be a number"),
-    ("boundary: [[0, 0], [1, 0], [1, .nan]]\n", "must be finite"),
+    ("boundary: [[0, 0], [1, 0], [1, .nan]]\n", "must be a number in \\[-100000, 100000\\]"),
     ("boundary: [[0, 0], [1, 0], [1, 1]]\nsource: [0.5]\n", "'source' must be"),
     ("boundary: [[0, 0], [1, 0], [1, 1]]\nstrength: true\n", "must be a number"),
     ("boundary: [[0, 0], [10, 0], [10, 10]]\nstart: [1, 2, 3, 4]\n", "'start' must be"),

@@ -173,8 +173,6 @@ def test_every_scenario_is_checked_before_the_first_episode(tmp_path):
                     "scenarios": ["otto-2d", "bad_lattice.yaml"]}, base_dir=tmp_path)
 
 
-@pytest.mark.xfail(strict=True, reason="the start-in-arena check of reciprocity/scenarios.py "
-                   "(issue 19, another branch) is not merged yet; remove this mark with it")
 def test_a_scenario_starting_outside_its_arena_is_refused_up_front(tmp_path):
     (tmp_path / "outside.yaml").write_text("world: poisson\narena: empty\nstart: [500, 500, 0]\n")
     with pytest.raises(SearchError, match="start"):

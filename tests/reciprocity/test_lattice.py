@@ -217,8 +217,8 @@ def test_episode_through_api_has_contract_keys():
     ({"source": [0, 9.5]}, "not a node"),
     ({"source": [9, -4]}, "not a node"),            # on the absorbing ring
     ({"source": [0.5, 1]}, "not a node"),
-    ({"strength": 0}, "positive release rate"),
-    ({"strength": -3}, "positive release rate"),
+    ({"strength": 0}, "release rate A0 in \\(0, 1e\\+06\\]"),
+    ({"strength": -3}, "release rate A0 in \\(0, 1e\\+06\\]"),
     ({"start": [0.5, 0]}, "not a lattice node"),
     ({"lattice_seed": -1}, "lattice_seed"),
 ])
