@@ -21,6 +21,7 @@ import numpy as np
 from numba import njit
 
 from .errors import PlanningError
+from .limits import check_grid, grid_shape
 
 
 @dataclass(frozen=True)
@@ -125,12 +126,10 @@ def make_grid(domain, h: float, ntheta: int, clearance: float) -> tuple[Grid, np
         (x0, y0), (x1, y1) = np.min(domain.boundary, axis=0), np.max(domain.boundary, axis=0)
     else:
         x0, x1, y0, y1 = _rectangle(domain)
-    nx = int(np.floor((x1 - x0) / h + 1e-9)) + 1
-    ny = int(np.floor((y1 - y0) / h + 1e-9)) + 1
+    check_grid(1.0, h, int(ntheta), 0.0, (x1 - x0, y1 - y0))
+    nx, ny = grid_shape((x1 - x0, y1 - y0), h)
     if nx < 4 or ny < 4:
         raise PlanningError(f"grid spacing h={h} is too coarse for a domain of size {x1 - x0:g} x {y1 - y0:g}")
-    if nx * ny * ntheta > 200_000_000:
-        raise PlanningError(f"grid of {nx} x {ny} x {ntheta} nodes is too large; increase h or reduce ntheta")
     grid = Grid(float(x0), float(y0), float(h), nx, ny, int(ntheta))
     points = grid.nodes()
     if is_arena(domain):

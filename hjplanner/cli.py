@@ -15,11 +15,15 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
 import sys
+from pathlib import Path
 
 import numpy as np
 
 from .errors import PlanningError
+from .limits import MAX_LENGTH, MAX_NTHETA, MIN_NTHETA, check_grid, length
 
 __all__ = ["main"]
 
@@ -34,13 +38,36 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _floats(text: str, n: int, what: str) -> tuple[float, ...]:
+    """`n` comma-separated finite numbers, each within ±MAX_LENGTH."""
     try:
         values = tuple(float(v) for v in text.split(","))
     except ValueError:
         values = ()
-    if len(values) != n or not np.isfinite(values).all():
-        raise PlanningError(f"{what} must be {n} comma-separated numbers, got {text!r}")
+    if len(values) != n or not np.isfinite(values).all() or np.abs(values).max() > MAX_LENGTH:
+        raise PlanningError(f"{what} must be {n} comma-separated numbers within ±{MAX_LENGTH:g}; got {text!r}")
     return values
+
+
+def _output(path, label: str, *, folder: bool = False):
+    """`path` checked writable before any work (see :func:`arenas.files.check_output`)."""
+    from arenas.files import check_output
+    return check_output(path, label, folder=folder, error=PlanningError)
+
+
+def _extent(domain) -> tuple[float, float]:
+    """Width and height of the domain's bounding box."""
+    if hasattr(domain, "boundary"):
+        b = np.asarray(domain.boundary, dtype=float)
+        return tuple(b.max(axis=0) - b.min(axis=0))
+    (x0, x1), (y0, y1) = domain
+    return (x1 - x0, y1 - y0)
+
+
+def _grid(args, domain) -> float:
+    """Check the grid flags against the domain before any work; return h."""
+    h = _default_h(domain, args.h)
+    check_grid(args.rho, h, args.ntheta, args.clearance, _extent(domain))
+    return h
 
 
 def _domain(args):
@@ -48,6 +75,8 @@ def _domain(args):
         raise PlanningError("give either --arena or --bounds, not both")
     if args.bounds:
         x0, x1, y0, y1 = _floats(args.bounds, 4, "--bounds X0,X1,Y0,Y1")
+        if not (x1 > x0 and y1 > y0):
+            raise PlanningError(f"--bounds X0,X1,Y0,Y1 needs X0 < X1 and Y0 < Y1; got {args.bounds!r}")
         return ((x0, x1), (y0, y1))
     if not args.arena:
         raise PlanningError("a domain is needed: --arena NAME|FILE or --bounds X0,X1,Y0,Y1")
@@ -74,20 +103,27 @@ def _default_h(domain, h):
 def _add_grid_arguments(parser):
     parser.add_argument("--arena", help="built-in arena name or YAML file (cm)")
     parser.add_argument("--bounds", help="rectangle X0,X1,Y0,Y1 instead of an arena (--bounds=-1,1,-1,1 if negative)")
-    parser.add_argument("--rho", type=float, required=True, help="minimum turning radius")
-    parser.add_argument("--h", type=float, default=None, help="grid spacing (default 1 cm for arenas)")
-    parser.add_argument("--ntheta", type=int, default=72, help="number of headings (default 72)")
-    parser.add_argument("--clearance", type=float, default=0.0, help="inflate obstacles and walls by this")
+    parser.add_argument("--rho", type=float, required=True, help=f"minimum turning radius, in (0, {MAX_LENGTH:g}]")
+    parser.add_argument("--h", type=float, default=None,
+                        help="grid spacing (default 1 cm for arenas); at most 5e7 nodes x·y·θ")
+    parser.add_argument("--ntheta", type=int, default=72,
+                        help=f"number of headings, {MIN_NTHETA} to {MAX_NTHETA} (default 72)")
+    parser.add_argument("--clearance", type=float, default=0.0, help="inflate obstacles and walls by this (>= 0)")
     parser.add_argument("--reverse", action="store_true", help="allow reverse driving (Reeds-Shepp)")
 
 
 def _cmd_solve(args) -> int:
     from .solver import solve
     domain = _domain(args)
+    h = _grid(args, domain)
     target = _floats(args.target, 2, "--target X,Y")
-    vf = solve(domain, target, args.rho, _default_h(domain, args.h), args.ntheta, clearance=args.clearance,
+    if args.tol is not None:
+        length(args.tol, "--tol", zero=True)
+    out = _output(args.out, "--out")
+    vf = solve(domain, target, args.rho, h, args.ntheta, clearance=args.clearance,
                tol=args.tol, reverse=args.reverse)
-    vf.save(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    vf.save(out)
     g = vf.grid
     finite = np.isfinite(vf.values)
     print(f"solved {vf.meta['domain']} target ({target[0]:g}, {target[1]:g}) on {g.nx} x {g.ny} x {g.ntheta} "
@@ -99,8 +135,14 @@ def _cmd_solve(args) -> int:
 
 def _cmd_path(args) -> int:
     from .value_function import ValueFunction
-    vf = ValueFunction.load(args.value)
     x, y, deg = _floats(args.start, 3, "--start X,Y,DEG")
+    if args.plot is not None:
+        _check_figure(args.plot)
+    vf = ValueFunction.load(args.value)
+    h = vf.grid.h
+    if args.ds is not None and not (np.isfinite(args.ds) and h / 100 <= args.ds <= 100 * h):
+        raise PlanningError(f"--ds must be a number from h/100 to 100 h ({h / 100:g} to {100 * h:g}); "
+                            f"got {args.ds!r}")
     path = vf.path((x, y, np.radians(deg)), ds=args.ds)
     words = {1: "L", 0: "S", -1: "R"}
     gears = {1: "", -1: "-"}  # reverse runs carry a minus sign: "-R4.2"
@@ -116,6 +158,7 @@ def _cmd_path(args) -> int:
         vf.plot_slice(np.radians(deg), ax=ax)
         ax.plot(path.xy[:, 0], path.xy[:, 1], "w-", lw=2)
         ax.plot(x, y, "wo")
+        Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
         fig.savefig(args.plot, dpi=120, bbox_inches="tight")
         plt.close(fig)
         print(f"wrote {args.plot}")
@@ -125,10 +168,36 @@ def _cmd_path(args) -> int:
     return 0
 
 
+def _check_figure(path: str) -> None:
+    """A figure file name matplotlib can write, in a writable place."""
+    _output(path, "--plot")
+    formats = ("png", "pdf", "svg", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp", "pgf")
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if suffix not in formats:
+        raise PlanningError(f"--plot {path!r}: unknown figure format {suffix!r}; end the name with one of "
+                            f"{', '.join('.' + f for f in formats)}")
+
+
+#: Most targets of one bank.
+MAX_TARGETS = 10_000
+
+
 def _cmd_bank(args) -> int:
-    from .bank import ValueFunctionBank
+    from .bank import ValueFunctionBank, default_cache_dir
     domain = _domain(args)
-    bank = ValueFunctionBank(domain, args.spacing, rho=args.rho, h=_default_h(domain, args.h), ntheta=args.ntheta,
+    h = _grid(args, domain)
+    spacing = length(args.spacing, "--spacing")
+    w, ht = _extent(domain)
+    n = (math.floor(w / spacing) + 1) * (math.floor(ht / spacing) + 1)
+    if spacing < h or n > MAX_TARGETS:
+        raise PlanningError(f"--spacing must be at least h ({h:g}) and give at most {MAX_TARGETS} targets "
+                            f"(about {n} here); got {args.spacing!r}")
+    cores = os.cpu_count() or 1
+    if args.workers is not None and not 1 <= args.workers <= min(64, 4 * cores):
+        raise PlanningError(f"--workers must be a whole number from 1 to {min(64, 4 * cores)} "
+                            f"(4 per core); got {args.workers}")
+    _output(args.cache or default_cache_dir(), "--cache", folder=True)
+    bank = ValueFunctionBank(domain, spacing, rho=args.rho, h=h, ntheta=args.ntheta,
                              clearance=args.clearance, reverse=args.reverse, cache_dir=args.cache)
     n_missing = len(bank.missing())
     seconds = bank.build(workers=args.workers, progress=not args.quiet)
@@ -141,6 +210,8 @@ def _cmd_bank(args) -> int:
 def _cmd_cache(args) -> int:
     from .bank import cache_info, clear_cache, default_cache_dir
     root = args.cache or default_cache_dir()
+    if Path(root).exists() and not Path(root).is_dir():
+        raise PlanningError(f"--cache {str(root)!r} is a file; give the cache folder")
     if args.clear:
         print(f"freed {clear_cache(root) / 1e6:.2f} MB in {root}")
         return 0
@@ -172,14 +243,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--value", required=True, help=".npz written by 'hjplanner solve'")
     p.add_argument("--start", required=True,
                    help="start pose X,Y,DEG, heading in degrees (--start=-1,2,90 if negative)")
-    p.add_argument("--ds", type=float, default=None, help="arc-length step (default h/2)")
-    p.add_argument("--plot", help="write a figure (PNG/PDF)")
+    p.add_argument("--ds", type=float, default=None, help="arc-length step, h/100 to 100 h (default h/2)")
+    p.add_argument("--plot", help="write a figure (.png, .pdf, .svg...)")
     p.set_defaults(run=_cmd_path)
     p = sub.add_parser("bank", help="precompute value functions on a lattice of targets")
     _add_grid_arguments(p)
     p.add_argument("--spacing", type=float, required=True, help="lattice spacing of the targets")
     p.add_argument("--cache", default=None, help=CACHE_HELP)
-    p.add_argument("--workers", type=int, default=None, help="processes (default: CPU count)")
+    p.add_argument("--workers", type=int, default=None, help="processes, 1 to 4 per core (default: CPU count)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(run=_cmd_bank)
     p = sub.add_parser("cache", help="show (default) or clear the value-function banks in the cache")
@@ -197,8 +268,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = parser.parse_args(argv)
         if args.command is None:
-            parser.print_help()
-            return 2
+            raise PlanningError("a command is needed: solve, path, bank or cache (see 'hjplanner --help')")
         return int(args.run(args))
     except (PlanningError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)

@@ -13,6 +13,7 @@ from ._grid import Grid, domain_geometry, lower_wall_distance, make_grid
 from ._motion import arc_samples, arc_step, controls, sample_spacing
 from .dubins import local_exact
 from .errors import PlanningError
+from .limits import check_grid, length
 from .value_function import ValueFunction
 
 __all__ = ["solve", "SolverOptions"]
@@ -175,19 +176,12 @@ def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], d
 
 
 def _validate_grid(rho, h, ntheta, clearance):
-    for name, value in (("rho", rho), ("h", h)):
-        if not (isinstance(value, (int, float, np.floating, np.integer)) and np.isfinite(value) and value > 0):
-            raise PlanningError(f"{name} must be a positive finite number, got {value!r}")
-    if not (isinstance(ntheta, (int, np.integer)) and ntheta >= 8):
-        raise PlanningError(f"ntheta must be an integer >= 8 (headings per turn), got {ntheta!r}")
-    if not (isinstance(clearance, (int, float, np.floating, np.integer)) and np.isfinite(clearance)
-            and clearance >= 0):
-        raise PlanningError(f"clearance must be a finite number >= 0, got {clearance!r}")
+    check_grid(rho, h, int(ntheta) if isinstance(ntheta, np.integer) else ntheta, clearance)
 
 
 def _validate_target(target, tol):
-    if tol is not None and not (np.isfinite(tol) and tol >= 0):
-        raise PlanningError(f"tol must be None or >= 0, got {tol!r}")
+    if tol is not None:
+        length(tol, "tol", zero=True)
     try:
         tx, ty = (float(t) for t in target)
     except (TypeError, ValueError):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import zipfile
 from pathlib import Path as FsPath
 
 import numpy as np
@@ -177,32 +178,46 @@ class ValueFunction:
             an older hjplanner (solve again or rebuild the bank).
         """
         path = FsPath(path)
+        _check_archive(path)
         try:
             with np.load(path, allow_pickle=False) as data:
                 meta = json.loads(str(data["meta"]))
-                if meta.get("format") != FORMAT:
+                if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+                    found = meta.get("format") if isinstance(meta, dict) else type(meta).__name__
                     raise PlanningError(f"{path} is not an hjplanner value function of format {FORMAT!r} "
-                                        f"(found {meta.get('format')!r}); solve it again")
+                                        f"(found {found!r}); solve it again")
                 g = meta.pop("grid")
                 meta.pop("format")
-                quantum = meta.pop("quantum")
+                quantum = float(meta.pop("quantum"))
                 grid = Grid(float(g["x0"]), float(g["y0"]), float(g["h"]), int(g["nx"]), int(g["ny"]),
                             int(g["ntheta"]))
+                _check_grid_meta(grid, quantum, path)
+                n_obstacles = int(data["n_obstacles"])
+                if not 0 <= n_obstacles <= 10_000:
+                    raise PlanningError(f"{path}: n_obstacles {n_obstacles} is not from 0 to 10000")
                 boundary = data["boundary"]
                 geometry = {"name": meta.get("domain"), "boundary": boundary if len(boundary) else None,
-                            "obstacles": [data[f"obstacle_{n}"] for n in range(int(data["n_obstacles"]))]}
-                steps = (data["phi_high"].astype(np.uint16) << 8) | data["phi_low"]
-                codes = np.cumsum(steps, axis=0, dtype=np.uint16)
-                free, distance = data["free"], data["distance"]
+                            "obstacles": [data[f"obstacle_{n}"] for n in range(n_obstacles)]}
+                shape = (grid.ntheta, grid.nx, grid.ny)
+                arrays = {k: data[k] for k in ("phi_high", "phi_low", "free", "distance")}
         except FileNotFoundError:
             raise PlanningError(f"value-function file {path} does not exist") from None
-        except (OSError, KeyError, ValueError) as exc:
-            if isinstance(exc, PlanningError):
-                raise
-            raise PlanningError(f"cannot read value function from {path}: {exc}") from None
-        if codes.shape != (grid.ntheta, grid.nx, grid.ny):
-            raise PlanningError(f"{path}: values of shape {codes.shape} do not match the grid")
-        phi = np.where(codes > QUANTUM_STEPS, np.inf, codes * float(quantum))
+        except PlanningError:
+            raise
+        except (OSError, KeyError, ValueError, TypeError, AttributeError, EOFError, zipfile.BadZipFile) as exc:
+            raise PlanningError(f"cannot read value function from {path}: {type(exc).__name__}: {exc}") from None
+        expected = {"phi_high": (shape, np.uint8), "phi_low": (shape, np.uint8),
+                    "free": (shape[1:], np.bool_), "distance": (shape[1:], None)}
+        for key, (want, dtype) in expected.items():
+            a = arrays[key]
+            if a.shape != want or (dtype is not None and a.dtype != dtype) or (
+                    dtype is None and a.dtype.kind != "f"):
+                raise PlanningError(f"{path}: array {key!r} of shape {a.shape} and type {a.dtype} does not match "
+                                    f"the grid {want}; solve it again")
+        steps = (arrays["phi_high"].astype(np.uint16) << 8) | arrays["phi_low"]
+        codes = np.cumsum(steps, axis=0, dtype=np.uint16)
+        free, distance = arrays["free"], arrays["distance"]
+        phi = np.where(codes > QUANTUM_STEPS, np.inf, codes * quantum)
         return cls(phi, grid, free, distance, meta, geometry)
 
     # --- paths and plots --------------------------------------------------
@@ -235,3 +250,54 @@ class ValueFunction:
         g = self.grid
         return (f"ValueFunction(domain={self.meta.get('domain')!r}, target={tuple(self.meta['target'])}, "
                 f"rho={self.rho:g}, grid={g.nx}x{g.ny}x{g.ntheta}, h={g.h:g})")
+
+
+#: Largest value-function file read, and largest uncompressed content, bytes.
+MAX_FILE_BYTES = 2 * 2**30
+MAX_CONTENT_BYTES = 4 * 2**30
+
+
+def _check_archive(path: FsPath) -> None:
+    """Refuse anything but a regular zip file of bounded uncompressed size (no FIFO, device or
+    zip bomb), before numpy reads it."""
+    import stat
+    try:
+        st = path.stat()
+    except FileNotFoundError:
+        raise PlanningError(f"value-function file {path} does not exist") from None
+    except OSError as exc:
+        raise PlanningError(f"cannot read value function from {path}: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(st.st_mode):
+        kind = "a folder" if stat.S_ISDIR(st.st_mode) else "not a regular file"
+        raise PlanningError(f"value-function file {path} is {kind}; give an .npz written by 'hjplanner solve'")
+    if st.st_size > MAX_FILE_BYTES:
+        raise PlanningError(f"value-function file {path} has {st.st_size} bytes; at most {MAX_FILE_BYTES} are read")
+    try:
+        with zipfile.ZipFile(path) as z:
+            total = sum(info.file_size for info in z.infolist())
+            # an array's own header says how much numpy will allocate, whatever the zip claims
+            claimed = sum(_array_bytes(z, info) for info in z.infolist() if info.filename.endswith(".npy"))
+    except (zipfile.BadZipFile, OSError, EOFError, ValueError) as exc:
+        raise PlanningError(f"{path} is not an .npz archive ({exc}); give a file written by 'hjplanner solve'") from None
+    if max(total, claimed) > MAX_CONTENT_BYTES:
+        raise PlanningError(f"{path} unpacks to {max(total, claimed)} bytes; at most {MAX_CONTENT_BYTES} are read")
+
+
+def _array_bytes(z: zipfile.ZipFile, info: zipfile.ZipInfo) -> int:
+    """Bytes of the array stored in member `info`, from its ``.npy`` header alone."""
+    with z.open(info) as fh:
+        fmt = np.lib.format
+        version = fmt.read_magic(fh)
+        read = fmt.read_array_header_1_0 if version == (1, 0) else fmt.read_array_header_2_0
+        shape, _, dtype = read(fh)
+    return int(np.prod(shape, dtype=object)) * dtype.itemsize
+
+
+def _check_grid_meta(grid: Grid, quantum: float, path: FsPath) -> None:
+    from .limits import MAX_NODES, MAX_NTHETA, MIN_NTHETA
+    ok = (np.isfinite([grid.x0, grid.y0, grid.h, quantum]).all() and grid.h > 0 and quantum > 0
+          and min(grid.nx, grid.ny) >= 2 and MIN_NTHETA <= grid.ntheta <= MAX_NTHETA
+          and grid.nx * grid.ny * grid.ntheta <= MAX_NODES)
+    if not ok:
+        raise PlanningError(f"{path}: its grid {grid} (quantum {quantum}) is not a valid value-function grid; "
+                            "solve it again")

@@ -75,7 +75,7 @@ def check(scenario: str | Scenario, strategy: str, *, params: dict | None = None
     make_strategy(strategy, **(params or {}))
     if plat == "car":
         from .platforms.car import check_car_options
-        check_car_options(dict(platform_options or {}))
+        check_car_options(dict(platform_options or {}), sc.arena)
     return sc
 
 

@@ -24,12 +24,15 @@ from dataclasses import asdict, dataclass, fields
 import numpy as np
 
 from arenas import Arena, ArenaError, CarSpec, Testbed
+from arenas.files import check_output
 from arenas.testbed import dead_reckon
 from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank, optimal_path, steering
+from hjplanner.limits import check_grid
 
 from ..errors import SearchError, UnreachableTarget
 from ..intents import Intent, Measure, SampleGradient, StepToward
 from ..observations import Observation
+from ..validation import Bound, check_bounds
 from .base import Platform
 
 __all__ = ["CAR_KEYS", "CarPlatform", "DrivingOptions", "PLANNERS", "check_car_options", "make_car_platform"]
@@ -454,11 +457,33 @@ CAR_KEYS = tuple(f.name for f in fields(DrivingOptions)) + tuple(f.name for f in
     "px_per_mm",)
 
 
-def check_car_options(car: dict) -> tuple[DrivingOptions, CarSpec, float]:
-    """Validate car options (cheap): the driving options, the car and the floor resolution."""
+#: Bounds of every car option (lengths in cm, times in s, speeds in cm/s): what keeps one
+#: episode's value functions within the planner's memory budget and its physics step finite.
+CAR_BOUNDS = {
+    "h": Bound(0.2, 20, unit="cm"), "ntheta": Bound(8, 360, integer=True), "clearance": Bound(0, 50, unit="cm"),
+    "bank_spacing": Bound(0.5, 1000, unit="cm"), "replan_every": Bound(0.1, 1e4, unit="cm"),
+    "stop_tol": Bound(0.01, 100, unit="cm"), "dwell": Bound(0.01, 3600, unit="s"),
+    "dead_band": Bound(0, 100, none=True), "manoeuvre_reverse": Bound(0.1, 1000, unit="cm"),
+    "manoeuvre_forward": Bound(0.1, 1000, unit="cm"), "bang_step": Bound(0.1, 1000, unit="cm"),
+    "length": Bound(0.5, 100, unit="cm"), "width": Bound(0.5, 100, unit="cm"), "mass": Bound(0.1, 1e5, unit="g"),
+    "speed": Bound(0.1, 1000, unit="cm/s"), "rho": Bound(0.5, 1000, unit="cm"), "lateral_grip": Bound(0.01, 1e4),
+    "steer_noise": Bound(0, 10), "speed_noise": Bound(0, 10), "noise_tau": Bound(1e-3, 1e3, unit="s"),
+    "servo_tau": Bound(1e-3, 1e3, unit="s"), "dt": Bound(1e-4, 0.1, unit="s"), "px_per_mm": Bound(0.1, 4),
+}
+#: Most value functions of one bank.
+MAX_BANK_TARGETS = 10_000
+
+
+def check_car_options(car: dict, arena=None) -> tuple[DrivingOptions, CarSpec, float]:
+    """Validate car options (cheap): the driving options, the car and the floor resolution.
+
+    With `arena` (the arena the car will drive in), also the planner's grid and bank
+    against their budgets, and the bank's cache folder.
+    """
     unknown = sorted(set(car) - set(CAR_KEYS))
     if unknown:
         raise SearchError(f"unknown car option(s) {', '.join(unknown)}; choose from {', '.join(CAR_KEYS)}")
+    check_bounds(car, CAR_BOUNDS, "car option ")
     drive_keys = {f.name for f in fields(DrivingOptions)}
     spec_keys = {f.name for f in fields(CarSpec)}
     try:
@@ -466,10 +491,28 @@ def check_car_options(car: dict) -> tuple[DrivingOptions, CarSpec, float]:
         spec = CarSpec(**{k: v for k, v in car.items() if k in spec_keys})
     except (TypeError, ArenaError) as exc:
         raise SearchError(f"bad car option: {exc}") from None
-    px = car.get("px_per_mm", 1.0)
-    if isinstance(px, bool) or not isinstance(px, (int, float)) or not 0.1 <= px <= 4:
-        raise SearchError(f"px_per_mm must be a number between 0.1 and 4; got {px!r}")
-    return options, spec, float(px)
+    if options.cache_dir is not None:
+        if not isinstance(options.cache_dir, str):
+            raise SearchError(f"car option cache_dir must be a folder name; got {options.cache_dir!r}")
+        check_output(options.cache_dir, "car option cache_dir", folder=True, error=SearchError)
+    if arena is not None:
+        _check_planner_budget(options, spec, arena)
+    return options, spec, float(car.get("px_per_mm", 1.0))
+
+
+def _check_planner_budget(options: DrivingOptions, spec: CarSpec, arena) -> None:
+    """Refuse a grid or bank beyond the planner's budgets in `arena`, before any solve."""
+    b = np.asarray(arena.boundary, dtype=float)
+    extent = tuple(b.max(axis=0) - b.min(axis=0))
+    try:
+        check_grid(spec.rho, options.h, int(options.ntheta), options.clearance, extent)
+    except PlanningError as exc:
+        raise SearchError(f"car options h={options.h:g}, ntheta={options.ntheta}: {exc}") from None
+    if options.planner == "bank":
+        n = (int(extent[0] // options.bank_spacing) + 1) * (int(extent[1] // options.bank_spacing) + 1)
+        if n > MAX_BANK_TARGETS:
+            raise SearchError(f"car option bank_spacing={options.bank_spacing:g} gives about {n} value functions in "
+                              f"arena {arena.name!r}; at most {MAX_BANK_TARGETS}: raise it")
 
 
 def make_car_platform(world, *, progress: bool = False, **car) -> CarPlatform:
@@ -487,6 +530,6 @@ def make_car_platform(world, *, progress: bool = False, **car) -> CarPlatform:
         ``replan_every``, ...), :class:`arenas.CarSpec` fields (``rho``, ``speed``, ...),
         and ``px_per_mm``, the floor resolution.
     """
-    options, spec, px = check_car_options(car)
+    options, spec, px = check_car_options(car, world.arena)
     floor = world.floor(px_per_mm=px)
     return CarPlatform(Testbed(world.true_arena, floor, car=spec), options, progress=progress)

@@ -71,7 +71,7 @@ def test_from_image_recovers_drawn_obstacles(tmp_path):
 
 
 def test_from_image_rejects_bad_input():
-    with pytest.raises(ArenaError, match="positive scale"):
+    with pytest.raises(ArenaError, match=r"cm_per_px must be a number in \(0, 100000\]"):
         arenas.from_image(np.zeros((10, 10)), cm_per_px=0)
     with pytest.raises(ArenaError, match="cannot read image"):
         arenas.from_image("missing.png", cm_per_px=1)

@@ -1,5 +1,6 @@
 """The hjplanner command line: round trips and clear error messages (exit code 2, no traceback)."""
 
+import re
 import json
 
 import numpy as np
@@ -47,11 +48,11 @@ def test_bank_command_and_cache(tmp_path, monkeypatch, capsys):
 @pytest.mark.parametrize("argv, message", [
     (["solve", "--bounds", "0,1,0,1", "--target", "2,2", "--rho", "0.1", "--out", "v.npz"], "outside the domain"),
     (["solve", "--bounds", "0,1,0,1", "--target", "0.5,0.5", "--rho", "-1", "--out", "v.npz"],
-     "rho must be a positive"),
+     r"rho must be a number in \(0, 100000\]"),
     (["solve", "--bounds", "0,1,0,1", "--target", "0.5,0.5", "--rho", "0.2", "--h", "0", "--out", "v.npz"],
-     "h must be a positive"),
+     r"h must be a number in \(0, 100000\]"),
     (["solve", "--bounds", "0,1,0,1", "--target", "0.5,0.5", "--rho", "0.2", "--ntheta", "4", "--out", "v.npz"],
-     "ntheta must be an integer >= 8"),
+     "ntheta must be a whole number from 8 to 720"),
     (["solve", "--bounds", "0,1,0", "--target", "0.5,0.5", "--rho", "0.2", "--out", "v.npz"], "--bounds X0,X1,Y0,Y1"),
     (["solve", "--target", "0.5,0.5", "--rho", "0.2", "--out", "v.npz"], "a domain is needed"),
     (["solve", "--bounds", "0,1,0,1", "--target", "a,b", "--rho", "0.2", "--out", "v.npz"], "--target X,Y"),
@@ -61,13 +62,13 @@ def test_bank_command_and_cache(tmp_path, monkeypatch, capsys):
     (["path", "--value", "missing.npz", "--start", "1,2,3"], "does not exist"),
     (["frobnicate"], "invalid choice"),
     (["cache", "--info", "--clear"], "not allowed with argument"),
-    ([], "usage"),
+    ([], "a command is needed"),
 ])
 def test_errors_are_messages(tmp_path, monkeypatch, capsys, argv, message):
     monkeypatch.chdir(tmp_path)
     assert main(argv) == 2
     captured = capsys.readouterr()
-    assert message in captured.err + captured.out
+    assert re.search(message, captured.err) and not captured.out
     assert "Traceback" not in captured.err
 
 

@@ -155,16 +155,16 @@ def test_unreachable_state_facing_a_wall():
 
 
 @pytest.mark.parametrize("kwargs, message", [
-    (dict(rho=0.0), "rho must be a positive"),
-    (dict(rho=float("nan")), "rho must be a positive"),
-    (dict(h=-1.0), "h must be a positive"),
-    (dict(ntheta=4), "ntheta must be an integer >= 8"),
-    (dict(ntheta=16.5), "ntheta must be an integer >= 8"),
+    (dict(rho=0.0), r"rho must be a number in \(0, 100000\]"),
+    (dict(rho=float("nan")), r"rho must be a number in \(0, 100000\]"),
+    (dict(h=-1.0), r"h must be a number in \(0, 100000\]"),
+    (dict(ntheta=4), "ntheta must be a whole number from 8 to 720"),
+    (dict(ntheta=16.5), "ntheta must be a whole number from 8 to 720"),
     (dict(target=(3.0, 0.0)), "outside the domain"),
     (dict(target=(0.0,)), "target must be a point"),
     (dict(domain=((1, 0), (0, 1))), "x0 < x1"),
     (dict(domain="paper"), "domain must be an arenas.Arena or rectangle"),
-    (dict(clearance=-1.0), "clearance must be a finite number >= 0"),
+    (dict(clearance=-1.0), r"clearance must be a number in \[0, 100000\]"),
     (dict(h=1.5), "too coarse"),
 ])
 def test_invalid_inputs(kwargs, message):

@@ -73,7 +73,7 @@ def test_load_errors(tmp_path):
         ValueFunction.load(tmp_path / "missing.npz")
     bad = tmp_path / "bad.npz"
     bad.write_bytes(b"not a zip file")
-    with pytest.raises(PlanningError, match="cannot read"):
+    with pytest.raises(PlanningError, match="not an .npz archive"):
         ValueFunction.load(bad)
     other = tmp_path / "other.npz"
     np.savez(other, meta=np.array(json.dumps({"format": "something else"})))
