@@ -55,7 +55,8 @@ MORE = {"rbpf": "rbpf[planner=path]",
 
 def load(root: Path):
     con = duckdb.connect()
-    files = [str(p) for p in sorted(root.glob("lattice_beyond*/**/*.parquet"))]
+    # each campaign's own partitions only, never a recursive glob
+    files = [str(p) for p in sorted(root.glob("lattice_beyond*/scenario=*/strategy=*/part-*.parquet"))]
     if not files:
         raise SystemExit(f"no results under {root}/lattice_beyond*; run the campaigns first")
     rows = con.sql(f"SELECT campaign, variant, seed_index, success, reached, self_localised, steps, slips "

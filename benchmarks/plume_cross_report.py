@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import sys
 
-import duckdb
 import numpy as np
 
 
 def main(folder: str) -> None:
-    con = duckdb.connect()
-    con.execute(f"CREATE VIEW r AS SELECT * FROM read_parquet('{folder}/**/*.parquet', union_by_name=true)")
+    from reciprocity.campaign import connect
+    con = connect(folder)                      # the campaign's own partitions, never a recursive glob
+    con.execute("CREATE VIEW r AS SELECT * FROM episodes")
     print("| variant | runs | success % | mean readings | median readings | mean path cm | median path cm "
           "| median error cm | p90 error cm | stops | mean wall s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")

@@ -82,3 +82,19 @@ def test_path_errors(tmp_path, capsys):
     assert main(["path", "--value", str(out), "--start", "0.1,0.2"]) == 2
     assert "--start X,Y,DEG" in capsys.readouterr().err
     assert np.isfinite(ValueFunction.load(out)(0.2, 0.2, 0.0))
+
+
+@pytest.mark.parametrize("command", ["solve", "bank"])
+def test_a_plain_arena_file_is_a_domain(command, tmp_path, monkeypatch, capsys):
+    """``--arena FILE`` takes the README's arena file, for every subcommand with a domain."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "room.yaml").write_text("boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]\n"
+                                        "obstacles: [[[20, 10], [30, 10], [30, 30], [20, 30]]]\n"
+                                        "source: [50, 20]\nstrength: 850\nstart: [5, 5, 0]\n")
+    common = ["--arena", "room.yaml", "--rho", "5", "--h", "2", "--ntheta", "16"]
+    if command == "solve":
+        argv = ["solve", *common, "--target", "50,20", "--out", "v.npz"]
+    else:
+        argv = ["bank", *common, "--spacing", "30", "--cache", "cache", "--workers", "1", "--quiet"]
+    assert main(argv) == 0, capsys.readouterr().err
+    assert (tmp_path / ("v.npz" if command == "solve" else "cache")).exists()
