@@ -252,18 +252,26 @@ def _run_one(args, plan: _Planned, out: Path | None):
     return episode
 
 
+def _arena_plan(args, strategy: str, params: dict) -> _Planned:
+    """:func:`_plan` for ``--arena``: a built-in arena or an arena file (a poisson scenario)."""
+    if args.arena not in arenas.builtin_names() and not Path(args.arena).exists():
+        raise ReciprocityError(f"--arena: no built-in arena or file named {args.arena!r}; built-ins are "
+                               f"{', '.join(arenas.builtin_names())} (or give the path of an arena YAML file)")
+    plan = _plan(args, args.arena, strategy, params)
+    if plan.scenario.world != "poisson":
+        raise ReciprocityError(f"--arena {args.arena!r} is a {plan.scenario.world} scenario, not an arena; "
+                               "give it with --scenario")
+    return plan
+
+
 def cmd_run(args) -> int:
     if (args.arena is None) == (args.scenario is None):
         raise ReciprocityError("give exactly one of --arena NAME|FILE or --scenario NAME|FILE "
                                "(see `reciprocity arenas` and `reciprocity scenarios`)")
-    scenario = args.arena if args.arena is not None else args.scenario
-    if args.arena is not None and args.arena not in arenas.builtin_names() and not Path(args.arena).exists():
-        raise ReciprocityError(f"--arena: no built-in arena or file named {args.arena!r}; built-ins are "
-                               f"{', '.join(arenas.builtin_names())} (or give the path of an arena YAML file)")
-    plan = _plan(args, scenario, args.strategy, _params(args.set))
-    if args.arena is not None and plan.scenario.world != "poisson":
-        raise ReciprocityError(f"--arena {args.arena!r} is a {plan.scenario.world} scenario, not an arena; "
-                               "give it with --scenario")
+    if args.arena is not None:
+        plan = _arena_plan(args, args.strategy, _params(args.set))
+    else:
+        plan = _plan(args, args.scenario, args.strategy, _params(args.set))
     out = check_output(args.out, "--out", folder=True, error=ReciprocityError) if args.out else None
     json_path = check_output(args.json, "--json", error=ReciprocityError) if args.json else None
     episode = _run_one(args, plan, out)
@@ -279,23 +287,24 @@ def cmd_run(args) -> int:
 
 def cmd_demo(args) -> int:
     args.set = []
-    plans = [_plan(args, "paper", name, {}) for name in ("reciprocity", "gradient")]
+    plans = [_arena_plan(args, name, {}) for name in ("reciprocity", "gradient")]
     out = check_output(args.out, "--out", folder=True, error=ReciprocityError)
     rows = [_run_one(args, plan, out).summary for plan in plans]
     (out / "summary.json").write_text(json.dumps(rows, indent=1))
     src = rows[0]["source"]
     noise = ("sensor noise 12 ADC counts, 1 s dwell" if args.platform == "car"
              else f"noise sigma = {12.0 if args.noise is None else args.noise:g}")
-    print(f"arena 'paper', source ({src[0]:.2f}, {src[1]:.2f}) cm, start {rows[0]['start'][:2]}, "
+    print(f"arena {rows[0]['arena']!r}, source ({src[0]:.2f}, {src[1]:.2f}) cm, start {rows[0]['start'][:2]}, "
           f"{noise}, seed {args.seed}, {args.platform} observer")
     print("time s: simulated driving and measuring time (car); wall s: computing time; "
           "hits: collisions with walls")
     print(_header())
     for s in rows:
         print(_summary_line(s))
-    print("for comparison, the paper's own testbed runs (Landa et al., one run each, not ours): "
-          "reciprocity 7 measurements, error 4.35 cm; gradient 8 + 5 gradient measurements = "
-          "18 samples, error 5.0 cm")
+    if rows[0]["arena"] == "paper":
+        print("for comparison, the paper's own testbed runs (Landa et al., one run each, not ours): "
+              "reciprocity 7 measurements, error 4.35 cm; gradient 8 + 5 gradient measurements = "
+              "18 samples, error 5.0 cm")
     print(f"figures, traces and summary.json are in {out}/")
     return 0
 
@@ -360,8 +369,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="strategy parameter, e.g. --set eps=0.1 (repeatable)")
     _common(run)
     run.set_defaults(func=cmd_run)
-    demo = sub.add_parser("demo", help="both strategies on the paper arena, with figures")
+    demo = sub.add_parser("demo", help="both strategies on the paper arena (or another), with figures")
     demo.add_argument("--out", default="demo_out", help="output folder (default demo_out)")
+    demo.add_argument("--arena", default="paper", help="built-in arena name or arena YAML file (default paper)")
     demo.add_argument("--platform", choices=("point", "car"), default="car",
                       help="observer: the simulated micro-car (default) or a point")
     _common(demo)

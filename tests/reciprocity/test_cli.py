@@ -178,3 +178,15 @@ def test_json_folder_is_created_when_missing(tmp_path, capsys):
     assert main(["run", "--arena", "empty", "--strategy", "reciprocity", "--h", "4", "--quiet",
                  "--set", "max_steps=2", "--json", str(js)]) == 0
     assert json.loads(js.read_text())["strategy"] == "reciprocity"
+
+
+def test_the_demo_takes_a_plain_arena_file(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "my_arena.yaml").write_text(README_ARENA)
+    rc = main(["demo", "--arena", "my_arena.yaml", "--platform", "point", "--h", "4", "--quiet", "--out", "d"])
+    out = capsys.readouterr()
+    assert rc == 0, out.err
+    assert "arena 'my_arena'" in out.out and "paper's own testbed" not in out.out
+    rows = json.loads((tmp_path / "d" / "summary.json").read_text())
+    assert [r["strategy"] for r in rows] == ["reciprocity", "gradient"]
+    assert all(r["source"] == [70.21, 70.21] for r in rows)
