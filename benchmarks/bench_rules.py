@@ -80,7 +80,7 @@ def step_times(arena_name: str = "paper", h: float = 1.0, repeat: int = 5) -> st
     import numpy as np
 
     import reciprocity as r
-    from reciprocity.worlds.poisson import cached_solver
+    from reciprocity.models.green import cached_solver
     arena = r.scenarios.load_scenario(arena_name).arena
     solver = cached_solver(arena.without_scenario(), h)
     ctx = dict(arena=arena.without_scenario(), strength=arena.strength, noise=12.0)

@@ -12,7 +12,8 @@ from .platforms.base import Platform
 from .platforms.car import CAR_KEYS
 from .scenarios import Scenario
 from .strategies import Strategy
-from .worlds.poisson import TRUTH_MESH_RATIO, cached_solver
+from .models.green import cached_solver
+from .worlds.poisson import TRUTH_MESH_RATIO
 
 __all__ = ["PLATFORMS", "CAR_KEYS", "TRUTH_MESH_RATIO", "cached_solver", "make_strategy", "search"]
 

@@ -25,7 +25,7 @@ from scipy.special import gammaln
 
 from ..models.base import PoissonNoise
 from ..observations import Observation
-from ..worlds.plume import PlumeParams, plume_rate
+from ..models.plume import PlumeParams, plume_rate
 from .base import Belief, Predictive
 
 __all__ = ["ParticleBelief", "grid_particles", "outcome_table"]

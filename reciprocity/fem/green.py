@@ -24,6 +24,7 @@ from skfem.models.poisson import laplace
 from arenas import Arena, as_points
 
 from ..errors import ReciprocityError
+from .locate import TriangleLocator
 from .mesh import mesh_free_region
 
 __all__ = ["GreenSolver", "Field"]
@@ -162,9 +163,9 @@ class GreenSolver:
         self._lu = splu(a_free[:, self._free].tocsc())
         self.timings["factorize"] = time.perf_counter() - clock
         # point location: a trapezoid map on the straight-sided vertex mesh (O(log n))
-        from ..spaces.mesh import MeshSpace
-        #: The straight-sided vertex mesh as a search space: point location, triangulation.
-        self.space = mesh if mesh is not None else MeshSpace(arena, self.h, mesh=mesh1)
+        #: Point location and triangulation of the straight-sided vertex mesh (shared with
+        #: the search space of the same mesh when one is given).
+        self.locator = mesh.locator if mesh is not None else TriangleLocator(mesh1.p.T, mesh1.t.T)
         self._centroids = cKDTree(mesh1.p[:, mesh1.t].mean(axis=1).T)
         self._grid_cache: dict = {}
         self._probe_cache: OrderedDict = OrderedDict()
@@ -172,7 +173,7 @@ class GreenSolver:
     @property
     def triangulation(self) -> Triangulation:
         """The straight-sided vertex mesh as a matplotlib Triangulation (built once)."""
-        return self.space.triangulation
+        return self.locator.triangulation
 
     # ------------------------------------------------------------------ set-up
     def _curved(self, mesh1: skfem.MeshTri) -> skfem.MeshTri2:
@@ -230,7 +231,7 @@ class GreenSolver:
 
     def locate(self, points) -> np.ndarray:
         """Index of the mesh triangle holding each point, -1 outside the free region."""
-        return self.space.locate(as_points(points))
+        return self.locator.locate(as_points(points))
 
     def probe_matrix(self, points) -> tuple[sp.csr_matrix, np.ndarray]:
         """Sparse matrix mapping dof values to values at `points`, and an inside mask.

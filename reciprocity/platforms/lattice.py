@@ -19,14 +19,11 @@ import numpy as np
 from ..errors import SearchError
 from ..intents import Intent, Move, Stay
 from ..observations import Observation
-from ..spaces.lattice import DIRECTIONS, LatticeSpace
+from ..spaces.lattice import CONTROLS, LatticeSpace
 from ..worlds.base import World
 from .base import Platform
 
-__all__ = ["LatticePlatform", "CONTROLS"]
-
-#: The controls of Sec. 2.3: stay, east, west, north, south (lattice units).
-CONTROLS = np.vstack([[0, 0], DIRECTIONS])
+__all__ = ["LatticePlatform"]
 
 
 class LatticePlatform(Platform):

@@ -14,10 +14,13 @@ from scipy.sparse import coo_matrix
 
 from .base import SearchSpace
 
-__all__ = ["LatticeSpace", "DIRECTIONS"]
+__all__ = ["LatticeSpace", "DIRECTIONS", "CONTROLS"]
 
 #: Unit moves east, west, north, south (the order of direction indices 0..3).
 DIRECTIONS = np.array([(1, 0), (-1, 0), (0, 1), (0, -1)], dtype=int)
+#: The controls of an observer on the lattice (Ristic et al. Sec. 2.3): stay, east, west,
+#: north, south (lattice units). Public: what an observer may do is part of the task.
+CONTROLS = np.vstack([[0, 0], DIRECTIONS])
 
 
 class LatticeSpace(SearchSpace):

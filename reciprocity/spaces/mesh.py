@@ -14,10 +14,10 @@ import numpy as np
 from matplotlib.tri import Triangulation
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, dijkstra
-from scipy.spatial import cKDTree
 
 from arenas import Arena
 
+from ..fem.locate import TriangleLocator
 from ..fem.mesh import cached_mesh, node_areas
 from .base import SearchSpace
 
@@ -64,21 +64,11 @@ class MeshSpace(SearchSpace):
         self.edges = (np.concatenate([t[:, 0], t[:, 1], t[:, 2]]),
                        np.concatenate([t[:, 1], t[:, 2], t[:, 0]]))
         self._labels: dict[float, np.ndarray] = {}
-        self._triangulation: Triangulation | None = None
-        self._finder = None
         self._wall_distance = None
         self._adjacency = None
         self._edge_graph = None
-        # point location: nearest triangle centroids, then barycentric coordinates
-        corners = self.points[self.triangles]                      # (m, 3, 2)
-        self._centroid_tree = cKDTree(corners.mean(axis=1))
-        e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-        det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
-        self._inv = np.stack([np.stack([e2[:, 1], -e2[:, 0]], 1), np.stack([-e1[:, 1], e1[:, 0]], 1)], 1) \
-            / det[:, None, None]                                    # rows map p - c0 to (l1, l2)
-        self._origin = corners[:, 0]
-        # no triangle holds a point farther from every centroid than this
-        self._reach = float(np.max(np.linalg.norm(corners - corners.mean(axis=1)[:, None], axis=2)))
+        #: Point location on the mesh (shared with the FEM solver built on it).
+        self.locator = TriangleLocator(self.points, self.triangles)
 
     @property
     def wall_distance(self) -> np.ndarray:
@@ -95,9 +85,7 @@ class MeshSpace(SearchSpace):
     @property
     def triangulation(self) -> Triangulation:
         """The mesh as a matplotlib Triangulation (built once; point location, contours)."""
-        if self._triangulation is None:
-            self._triangulation = Triangulation(self.points[:, 0], self.points[:, 1], self.triangles)
-        return self._triangulation
+        return self.locator.triangulation
 
     # -- SearchSpace --------------------------------------------------------------------
     def contains(self, points) -> np.ndarray:
@@ -112,31 +100,9 @@ class MeshSpace(SearchSpace):
         return self._adjacency[int(i)].indices.copy()
 
     def locate(self, points, k: int = 8) -> np.ndarray:
-        """Index of the triangle holding each point (m, 2), -1 outside the mesh.
-
-        The `k` triangles with the nearest centroids are tested by barycentric
-        coordinates (a quality mesh holds the point in one of them); the rare rest go
-        to matplotlib's trapezoid map, built on first need (it costs seconds on a
-        30 000-triangle mesh, which start-up should not pay).
-        """
-        pts = np.atleast_2d(np.asarray(points, dtype=float))
-        out = -np.ones(len(pts), dtype=np.int64)
-        if not len(pts):
-            return out
-        k = min(k, len(self.triangles))
-        dist, cand = self._centroid_tree.query(pts, k=k)
-        cand, dist = cand.reshape(len(pts), k), dist.reshape(len(pts), k)
-        lam = np.einsum("mkij,mkj->mki", self._inv[cand], pts[:, None, :] - self._origin[cand])
-        tol = -1e-12
-        inside = (lam[..., 0] >= tol) & (lam[..., 1] >= tol) & (lam.sum(axis=2) <= 1 - tol)
-        found = inside.any(axis=1)
-        out[found] = cand[found, np.argmax(inside[found], axis=1)]
-        rest = np.flatnonzero(~found & (dist[:, 0] <= self._reach))
-        if rest.size:
-            if self._finder is None:
-                self._finder = self.triangulation.get_trifinder()
-            out[rest] = self._finder(pts[rest, 0], pts[rest, 1])
-        return out
+        """Index of the triangle holding each point (m, 2), -1 outside the mesh
+        (see :meth:`reciprocity.fem.locate.TriangleLocator.locate`)."""
+        return self.locator.locate(points, k)
 
     # -- candidates ---------------------------------------------------------------------
     def admissible(self, clearance: float = 0.0) -> np.ndarray:

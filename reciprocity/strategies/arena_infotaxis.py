@@ -43,7 +43,7 @@ import numpy as np
 from ..errors import SearchError
 from ..intents import Measure
 from ..outcome import StopReason
-from ..worlds.poisson import cached_solver
+from ..models.green import cached_solver
 from . import register
 from .base import SearchContext, Status, Strategy
 from .information import lattice_greens, systematic_support

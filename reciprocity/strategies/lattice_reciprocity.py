@@ -32,7 +32,7 @@ from scipy.special import gammaln, logsumexp
 from ..beliefs.rbpf import LOG_FLOOR, RBPFBelief
 from ..errors import SearchError
 from ..intents import Move, Stay
-from ..platforms.lattice import CONTROLS
+from ..spaces.lattice import CONTROLS
 from ..models.lattice import LatticeGreen
 from . import register
 from .base import SearchContext, Status, Strategy

@@ -55,7 +55,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import SearchError
-from ..worlds.plume import plume_rate
+from ..models.plume import plume_rate
 from ..beliefs.particles import outcome_table, _poisson_ppf
 from . import register
 from .infotaxis import PlumeSearch, _positive

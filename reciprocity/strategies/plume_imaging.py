@@ -38,7 +38,7 @@ from scipy.ndimage import gaussian_filter
 from scipy.special import gammaln
 
 from ..errors import SearchError
-from ..worlds.plume import plume_rate
+from ..models.plume import plume_rate
 from . import register
 from .base import SearchContext, Status, Strategy
 from .infotaxis import walker_proposal

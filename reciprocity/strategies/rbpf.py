@@ -18,7 +18,7 @@ from ..beliefs.base import MIN_PARTICLES
 from ..beliefs.rbpf import RBPFBelief
 from ..errors import SearchError
 from ..intents import Move, Stay
-from ..platforms.lattice import CONTROLS
+from ..spaces.lattice import CONTROLS
 from ..models.lattice import MIN_DISTANCE, log_bhattacharyya, log_evidence
 from . import register
 from .base import SearchContext, Status, Strategy

@@ -14,7 +14,7 @@ from ..imaging import COMBINATIONS, ImagingMap
 from ..intents import Measure
 from ..outcome import StopReason
 from ..spaces import MeshSpace, mesh_space
-from ..worlds.poisson import cached_solver
+from ..models.green import cached_solver
 from .base import SearchContext, Status, Strategy
 from .information import expected_entropy, lattice_greens, systematic_support
 

@@ -3,6 +3,6 @@
 the registry does on first use of the kind's name."""
 
 from .base import Reading, World
-from .poisson import Mismatch, PoissonWorld, TRUTH_MESH_RATIO, cached_solver
+from .poisson import Mismatch, PoissonWorld, TRUTH_MESH_RATIO, truth_solver
 
-__all__ = ["Mismatch", "PoissonWorld", "Reading", "TRUTH_MESH_RATIO", "World", "cached_solver"]
+__all__ = ["Mismatch", "PoissonWorld", "Reading", "TRUTH_MESH_RATIO", "World", "truth_solver"]

@@ -21,20 +21,21 @@ from ..errors import SearchError
 from ..fem.green import Field, GreenSolver
 from .base import Reading, World
 
-__all__ = ["PoissonWorld", "Mismatch", "TRUTH_MESH_RATIO", "cached_solver", "shifted_walls"]
+__all__ = ["PoissonWorld", "Mismatch", "TRUTH_MESH_RATIO", "truth_solver", "shifted_walls"]
 
 #: The true signal is computed on a mesh this much finer than the strategy's, so the
 #: data do not come from the very model that inverts them (no "inverse crime").
 TRUTH_MESH_RATIO = 0.7
+#: Grading of the truth's mesh toward re-entrant corners (that of the search meshes).
+TRUTH_GRADING = 0.5
 
 
 @lru_cache(maxsize=8)
-def cached_solver(arena: Arena, h: float, order: int = 1) -> GreenSolver:
-    """A :class:`GreenSolver` shared across episodes on the same arena geometry (pass
-    ``arena.without_scenario()``): meshed and factorized once per process."""
-    from ..spaces import mesh_space
-    mesh = mesh_space(arena, float(h)) if order == 1 else None
-    return GreenSolver(arena, h=h, order=order, mesh=mesh)
+def truth_solver(arena: Arena, h: float) -> GreenSolver:
+    """The truth's own solver of `arena` (its true walls) at mesh size `h`: its own mesh and
+    factorization, cached for the truth alone, so no strategy ever holds it (a strategy's
+    solvers come from :func:`reciprocity.models.green.cached_solver`)."""
+    return GreenSolver(arena, h=h, grading=TRUTH_GRADING)
 
 
 @dataclass(frozen=True)
@@ -107,7 +108,7 @@ def shifted_walls(arena: Arena, shift: float) -> Arena:
 @lru_cache(maxsize=4)
 def _floor(arena: Arena, source: tuple, strength: float, h: float, px_per_mm: float, gamma: float):
     from arenas import render_floor
-    field = cached_solver(arena, h).field(np.array(source), strength)
+    field = truth_solver(arena, h).field(np.array(source), strength)
     floor = render_floor(arena, field, px_per_mm=px_per_mm)
     if gamma == 1.0:
         return floor
@@ -158,7 +159,7 @@ class PoissonWorld(World):
     def field(self) -> Field:
         """The true signal ``u`` (a field evaluable at any points, cm)."""
         if self._field is None:
-            solver = cached_solver(self.true_arena.without_scenario(), self.h)
+            solver = truth_solver(self.true_arena.without_scenario(), self.h)
             self._field = solver.field(self.source, self.strength)
         return self._field
 

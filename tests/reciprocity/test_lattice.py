@@ -11,7 +11,8 @@ from reciprocity.beliefs.rbpf import RBPFBelief
 from reciprocity.episode import SUMMARY_KEYS
 from reciprocity.errors import SearchError
 from reciprocity.intents import Move, Stay
-from reciprocity.platforms.lattice import CONTROLS, LatticePlatform
+from reciprocity.platforms.lattice import LatticePlatform
+from reciprocity.spaces.lattice import CONTROLS
 from reciprocity.models.lattice import log_bhattacharyya, log_evidence, log_gain
 from reciprocity.observations import Observation
 from reciprocity.scenarios import load_scenario

@@ -8,7 +8,7 @@ from scipy.sparse.csgraph import shortest_path
 from reciprocity.api import run
 from reciprocity.episode import SUMMARY_KEYS
 from reciprocity.errors import SearchError
-from reciprocity.platforms.lattice import CONTROLS
+from reciprocity.spaces.lattice import CONTROLS
 from reciprocity.models.lattice import LatticeGreen
 from reciprocity.observations import Observation
 from reciprocity.scenarios import load_scenario

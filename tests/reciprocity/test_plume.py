@@ -12,7 +12,8 @@ from reciprocity.beliefs.particles import ParticleBelief, grid_particles
 from reciprocity.errors import SearchError
 from reciprocity.observations import Observation
 from reciprocity.scenarios import load_scenario
-from reciprocity.worlds.plume import PlumeParams, PlumeWorld, plume_length, plume_rate
+from reciprocity.models.plume import PlumeParams, plume_length, plume_rate
+from reciprocity.worlds.plume import PlumeWorld
 from reciprocity.worlds.plume_kind import otto_initial_hit_probabilities, otto_max_hits
 
 from plume_beliefs import hand_built

@@ -156,7 +156,7 @@ def _imaging(at=(33.0, -33.0), **params):
 def test_plume_imaging_is_the_poisson_posterior_on_its_lattice():
     from scipy.stats import poisson
     from reciprocity.observations import Observation
-    from reciprocity.worlds.plume import plume_rate
+    from reciprocity.models.plume import plume_rate
     s, nom = _imaging()
     r = np.array([10.0, 20.0])
     s.observe([Observation(r, 2.0, 0.0, 1.0, "hits")], None)

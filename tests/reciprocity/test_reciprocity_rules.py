@@ -13,7 +13,7 @@ from reciprocity.observations import Observation
 from reciprocity.spaces import mesh_space
 from reciprocity.strategies.information import expected_entropy
 from reciprocity.strategies.reciprocal import PRESETS
-from reciprocity.worlds.poisson import cached_solver
+from reciprocity.models.green import cached_solver
 
 
 @pytest.fixture(scope="module")
