@@ -8,13 +8,13 @@ from pathlib import Path
 
 import arenas
 from reciprocity.viz.figures import imaging_steps_figure
-from reciprocity.runner import search
+from reciprocity import execute
 
 
 def main(out_dir="out/examples", seed: int = 3) -> float:
     """Run the search, write ``imaging_steps.png`` into `out_dir`; return the error (cm)."""
     arena = arenas.load("paper")
-    episode, strategy, _ = search(arena, "reciprocity", seed=seed)
+    episode, strategy, _ = execute(arena, "reciprocity", seed=seed)
     n = episode.summary["n_measurements"]
     fig = imaging_steps_figure(episode, strategy.imaging, arena, eps=strategy.eps,
                                steps=range(1, n + 1), ncols=min(n, 4))

@@ -14,6 +14,9 @@ from pathlib import Path
 import numpy as np
 
 import reciprocity.api as api
+from reciprocity.env import SearchEnv, rollout
+from reciprocity.strategies import STRATEGIES
+from reciprocity.strategies.agent import StrategyAgent
 from reciprocity.viz.lattice import lattice_figure, search_figure, snapshot
 
 
@@ -30,20 +33,20 @@ def main(argv=None) -> None:
     at = {int(s) for s in a.steps.split(",")}
     world = {} if a.lattice_seed is None else {"lattice_seed": a.lattice_seed}
     sc = api.check("ristic-lattice", a.strategy, world=world)
-    w = sc.build_world(a.seed)
-    strat = api.make_strategy(a.strategy)
-    plat = sc.kind.platforms[sc.platform](w, sc, {})
-    start = sc.start_poses(w, 1, a.seed)
-    path, snaps = [start[0, :2].tolist()], []
+    env, agent = SearchEnv(sc), StrategyAgent(STRATEGIES[a.strategy])
+    path, snaps = [], []
 
     def progress(rec):
+        if not path:                             # the first move's route begins at the start
+            path.append(rec.route[0].tolist())
         path.append(rec.route[-1].tolist())
         if rec.step in at:
-            snaps.append(snapshot(rec.step, strat, plat, path))
+            snaps.append(snapshot(rec.step, agent.strategy, env.platforms[0], path))
 
-    ep = api.run_episode(w, strat, [plat], starts=start, seed=a.seed, max_steps=sc.max_steps,
-                         scenario=sc.name, progress=progress)
-    snaps.append(snapshot(ep.summary["steps"], strat, plat, path))
+    ep = rollout(env, agent, a.seed, progress=progress)
+    w, start = env.world, np.atleast_2d(ep.summary["start"])
+    path = path or [start[0, :2].tolist()]
+    snaps.append(snapshot(ep.summary["steps"], agent.strategy, env.platforms[0], path))
     lattice_figure(w, start=start[0], path=np.array(path)).savefig(out / "lattice.png", dpi=90)
     search_figure(w, snaps).savefig(out / "search.png", dpi=80)
     s = ep.summary

@@ -8,7 +8,7 @@ intents, platforms, episodes and scenarios.
 
 from .api import check, execute, run
 from .beliefs import Belief, Predictive
-from .episode import SUMMARY_KEYS, Episode, StepRecord, run_episode
+from .episode import SUMMARY_KEYS, Episode, StepRecord
 from .errors import MeshError, ReciprocityError, SearchError, UnreachableTarget
 from .fem import Field, GreenSolver, disk_green, free_space_green, mesh_free_region, reentrant_corners
 from .imaging import COMBINATIONS, ImagingMap, superlevel_area
@@ -30,6 +30,6 @@ __all__ = [
     "SampleGradient", "Scenario", "SearchContext", "SearchError", "SearchSpace", "Stay", "StepRecord",
     "StepToward", "Stop", "StopReason", "Strategy", "UnreachableTarget", "WalkerPlatform", "World",
     "check", "disk_green", "execute", "free_space_green", "load_scenario", "mesh_free_region",
-    "reentrant_corners", "run", "run_episode", "scenario_names", "superlevel_area",
+    "reentrant_corners", "run", "scenario_names", "superlevel_area",
     "three_point_gradient",
 ]

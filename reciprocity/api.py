@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import inspect
 
-from .episode import Episode, run_episode
+from arenas import Arena
+
+from .episode import Episode
 from .errors import SearchError
 from .scenarios import MAX_AGENTS, Scenario, load_scenario
 from .strategies import STRATEGIES, Strategy
@@ -43,7 +45,7 @@ def make_strategy(name: str, **params) -> Strategy:
         raise SearchError(f"bad parameter for strategy {name!r}: {exc}") from None
 
 
-def check(scenario: str | Scenario, strategy: str, *, params: dict | None = None,
+def check(scenario: str | Scenario | Arena, strategy: str, *, params: dict | None = None,
           platform: str | None = None, agents: int | None = None, world: dict | None = None,
           platform_options: dict | None = None) -> Scenario:
     """Validate a combination before any heavy work; return the scenario (with the
@@ -88,47 +90,38 @@ def _agents(cls, sc: Scenario, agents: int | None) -> int:
     return agents
 
 
-def execute(scenario: str | Scenario, strategy: str, *, seed: int = 0, params: dict | None = None,
+def execute(scenario: str | Scenario | Arena, strategy: str, *, seed: int = 0, params: dict | None = None,
             platform: str | None = None, agents: int | None = None, world: dict | None = None,
             platform_options: dict | None = None, progress=None):
-    """Like :func:`run`, but return ``(episode, strategy, platforms)``."""
+    """Like :func:`run`, but return ``(episode, strategy, platforms)``.
+
+    The episode runs as every episode does: a :class:`~reciprocity.env.SearchEnv` (the
+    truth) driven by :func:`~reciprocity.env.rollout` with the strategy as its agent.
+    """
+    from .env import SearchEnv, rollout
+    from .strategies.agent import StrategyAgent
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise SearchError(f"seed must be a non-negative whole number; got {seed!r}")
     sc = check(scenario, strategy, params=params, platform=platform, agents=agents, world=world,
                platform_options=platform_options)
-    plat_name = platform or sc.platform
     n = _agents(STRATEGIES[strategy], sc, agents)
-    w = sc.build_world(seed)
-    options = dict(platform_options or {})
-    if plat_name == "car" and progress is not None:
-        options["progress"] = True
-    factory = sc.kind.platforms[plat_name]
-    plats = [factory(w, sc, dict(options)) for _ in range(n)]
-    params = dict(params or {})
-    if plat_name == "car":
-        # the strategy proposes only points where the car can stand; the gradient stops
-        # when the sensor reaches the top of its calibrated range (the paper's I_max)
-        accepted = strategy_parameters(strategy)
-        if "clearance" in accepted:
-            params.setdefault("clearance", plats[0].options.clearance)
-        if "i_max" in accepted:
-            params.setdefault("i_max", plats[0].testbed.floor.mapping.u_max)
-    strat = make_strategy(strategy, **params)
-    starts = sc.start_poses(w, n, seed)
-    episode = run_episode(w, strat, plats, starts=starts, seed=seed, max_steps=sc.max_steps,
-                          scenario=sc.name, progress=progress)
-    return episode, strat, plats
+    env = SearchEnv(sc, platform=platform, agents=n, platform_options=platform_options)
+    agent = StrategyAgent(STRATEGIES[strategy], params)
+    episode = rollout(env, agent, seed, progress=progress,
+                      options={"progress": True} if progress is not None else None)
+    return episode, agent.strategy, env.platforms
 
 
-def run(scenario: str | Scenario, strategy: str, *, seed: int = 0, params: dict | None = None,
+def run(scenario: str | Scenario | Arena, strategy: str, *, seed: int = 0, params: dict | None = None,
         platform: str | None = None, agents: int | None = None, world: dict | None = None,
         platform_options: dict | None = None, progress=None) -> Episode:
     """Run one episode of `strategy` in `scenario`.
 
     Parameters
     ----------
-    scenario : str or Scenario
-        A built-in scenario name (``reciprocity scenarios``), a YAML file, or a Scenario.
+    scenario : str, Scenario or arenas.Arena
+        A built-in scenario name (``reciprocity scenarios``), a YAML file, a Scenario, or an
+        arena (a poisson scenario with the arena's source, strength and start).
     strategy : str
         A strategy name (``reciprocity strategies``).
     seed : int

@@ -292,13 +292,16 @@ def from_dict(data: dict, name: str = "scenario") -> Scenario:
 
 
 def load_scenario(name_or_path) -> Scenario:
-    """The built-in scenario `name_or_path`, or one read from a YAML file.
+    """The built-in scenario `name_or_path`, one read from a YAML file, or the poisson
+    scenario of an :class:`arenas.Arena` (its source, strength and start).
 
     Raises
     ------
     SearchError
         Unknown name, unreadable or malformed file, invalid parameters.
     """
+    if isinstance(name_or_path, arenas.Arena):      # an arena built in Python: a poisson scenario
+        return from_dict({"world": "poisson", "arena": name_or_path, "name": name_or_path.name})
     text = str(name_or_path)
     if text in arenas.builtin_names():
         return from_dict({"world": "poisson", "arena": text, "name": text})

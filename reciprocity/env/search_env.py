@@ -15,9 +15,10 @@ import numpy as np
 
 from ..errors import SearchError, UnreachableTarget
 from ..intents import Intent
-from ..outcome import Stop, StopReason, is_success
-from ..scenarios import Scenario, load_scenario
+from ..outcome import is_success
+from ..scenarios import MAX_AGENTS, Scenario, load_scenario
 from ..task import Percept, Report, Task
+from ..validation import whole
 from .seeds import EpisodeSeeds
 
 __all__ = ["SearchEnv", "intents_of"]
@@ -48,8 +49,8 @@ class SearchEnv:
 
     Parameters
     ----------
-    scenario : str or Scenario
-        A built-in scenario name, a scenario or arena YAML file, or a Scenario.
+    scenario : str, Scenario or arenas.Arena
+        A built-in scenario name, a scenario or arena YAML file, a Scenario, or an arena.
     platform : str, optional
         The platform (default: the scenario's).
     agents : int, optional
@@ -77,7 +78,11 @@ class SearchEnv:
         if self.platform_name not in self.scenario.kind.platforms:
             raise SearchError(f"platform {self.platform_name!r} does not apply to {self.scenario.world} worlds; "
                               f"choose one of {', '.join(self.scenario.kind.platforms)}")
-        self.n_agents = int(agents or self.scenario.agents)
+        self.n_agents = whole(self.scenario.agents if agents is None else agents, "agents", 1, MAX_AGENTS)
+        starts = self.scenario.starts
+        if starts is not None and 1 < len(starts) < self.n_agents:
+            raise SearchError(f"scenario {self.scenario.name!r} gives {len(starts)} start poses for "
+                              f"{self.n_agents} agents; give one pose (shared) or one per agent")
         self.platform_options = dict(platform_options or {})
         self.max_steps = self.scenario.max_steps
         self._world = None

@@ -65,8 +65,9 @@ class PlumeParams:
         """λ (length unit)."""
         return plume_length(self.D, self.tau, self.V)
 
-    def scaled(self, m: "PlumeMismatch") -> "PlumeParams":
-        """These parameters with a mismatch's factors applied (the truth)."""
+    def scaled(self, m) -> "PlumeParams":
+        """These parameters with a mismatch's factors applied (the truth's; `m` is a
+        :class:`reciprocity.worlds.plume.PlumeMismatch`)."""
         return PlumeParams(self.rate * m.rate_factor, self.a, self.D * m.diffusivity_factor,
                            self.tau * m.tau_factor, self.V * m.wind_factor,
                            self.wind_direction + m.wind_turn, self.form)

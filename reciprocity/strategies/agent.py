@@ -6,6 +6,7 @@ import inspect
 
 import numpy as np
 
+from ..errors import SearchError
 from ..observations import MessageLog
 from ..outcome import Stop, StopReason
 from ..task import Percept, Report, Task
@@ -19,26 +20,41 @@ class StrategyAgent:
 
     Parameters
     ----------
-    factory : type
-        The strategy class (``reciprocity.strategies.STRATEGIES[name]``).
+    factory : type or Strategy
+        The strategy class (``reciprocity.strategies.STRATEGIES[name]``), built anew at
+        every reset; or a strategy already built (started afresh at every reset, its
+        parameters as given).
     params : dict, optional
-        The strategy's parameters. The task's platform limits (the car's ``clearance``,
-        the sensor's ``i_max``) fill those the strategy accepts and `params` leaves out.
+        The strategy's parameters (with a class). The task's platform limits (the car's
+        ``clearance``, the sensor's ``i_max``) fill those the strategy accepts and `params`
+        leaves out.
     """
 
     def __init__(self, factory, params: dict | None = None):
+        if isinstance(factory, Strategy) and params:
+            raise TypeError("give params with a strategy class, not with a strategy already built")
         self._factory = factory
         self._params = dict(params or {})
         self.strategy: Strategy | None = None
         self.messages = MessageLog()
 
     def reset(self, task: Task, seed: np.random.SeedSequence) -> None:
-        params = dict(self._params)
-        accepted = _accepted(self._factory)
-        for key, value in task.limits.items():
-            if key in accepted:
-                params.setdefault(key, value)
-        self.strategy = strategy = self._factory(**params)
+        if isinstance(self._factory, Strategy):
+            strategy = self._factory
+        else:
+            params = dict(self._params)
+            accepted = _accepted(self._factory)
+            for key, value in task.limits.items():
+                if key in accepted:
+                    params.setdefault(key, value)
+            strategy = self._factory(**params)
+        if task.world not in strategy.worlds:
+            raise SearchError(f"strategy {strategy.name!r} does not apply to {task.world!r} worlds "
+                              f"(it supports {', '.join(strategy.worlds)})")
+        if strategy.agents is not None and strategy.agents != task.n_agents:
+            raise SearchError(f"strategy {strategy.name!r} directs {strategy.agents} observer(s); "
+                              f"got {task.n_agents}")
+        self.strategy = strategy
         self.messages = MessageLog()
         strategy.start(SearchContext(task.world, task.nominal, np.array(task.starts),
                                      np.random.default_rng(seed), self.messages))

@@ -446,16 +446,9 @@ class LatticeReciprocityStrategy(Strategy):
             count=float(observations[-1].value), believed_position=self.space.points[self._here()].tolist(),
             p_source_max=float(self.post.max()), control=int(self.control)))
 
-    def self_localised(self, true_position) -> bool:
-        """The paper's test: the true searcher node is in the support of the position belief."""
-        i = int(self.space.index_of(true_position)[0])
+    def position_support(self) -> np.ndarray:
+        """Nodes (k, 2) in the support of the position belief, for the environment's
+        self-localisation test (as ``rbpf``'s :meth:`~reciprocity.strategies.rbpf.RBPFStrategy.position_support`)."""
         if self.belief is not None:
-            return bool(np.any(self.belief.node == i))
-        return bool(self.pos[i] >= self.support)
-
-    def assess(self, summary: dict, true_positions: np.ndarray) -> dict:
-        """Success as for ``rbpf`` (:meth:`reciprocity.strategies.rbpf.RBPFStrategy.assess`):
-        stepped on the source and self-localised."""
-        reached = bool(summary["success"])
-        localised = self.self_localised(true_positions[0])
-        return dict(reached=reached, self_localised=localised, success=reached and localised)
+            return self.space.points[np.unique(self.belief.node)]
+        return self.space.points[self.pos >= self.support]

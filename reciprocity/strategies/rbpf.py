@@ -237,38 +237,11 @@ class RBPFStrategy(Strategy):
             believed_position=b.position().tolist(), gains=np.where(np.isfinite(self.gains), self.gains, None).tolist(),
             control=int(self.control)))
 
-    def self_localised(self, true_position) -> bool:
-        """The paper's success test at the end: the true searcher node lies in the support
-        of the searcher-position particles (Sec. 5.1)."""
-        i = int(self.space.index_of(true_position)[0])
-        return bool(np.any(self.belief.node == i))
-
-    def assess(self, summary: dict, true_positions: np.ndarray) -> dict:
-        """The paper's verdict on a finished search (Sec. 5.1), for the evaluator.
-
-        The episode's ``success`` in a lattice world is "the searcher stepped on the
-        source" (``found``); the paper also asks that the searcher's particles then hold
-        its true node. The strategy must not test that while searching (it never sees the
-        truth), so the episode's evaluator calls this once the search is over
-        (:func:`reciprocity.episode.run_episode`).
-
-        Parameters
-        ----------
-        summary : dict
-            The episode summary.
-        true_positions : ndarray, shape (n, 2)
-            The observers' true positions at the stop (lattice units).
-
-        Returns
-        -------
-        dict
-            ``reached`` (stepped on the source, the summary's ``success``),
-            ``self_localised`` (the true node is in the particles' support) and
-            ``success`` (both: the paper's success, replacing the summary's).
-        """
-        reached = bool(summary["success"])
-        localised = self.self_localised(true_positions[0])
-        return dict(reached=reached, self_localised=localised, success=reached and localised)
+    def position_support(self) -> np.ndarray:
+        """Nodes (k, 2) in the support of the searcher-position particles: the strategy's
+        declaration for the paper's self-localisation test (Sec. 5.1), which the environment
+        makes against the true node once the search is over."""
+        return self.space.points[np.unique(self.belief.node)]
 
 
 @register

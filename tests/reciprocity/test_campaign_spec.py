@@ -213,17 +213,3 @@ def test_scheduler_of_a_spec_is_checked_and_not_hashed(tmp_path):
         with pytest.raises(SearchError, match=match):
             parse_spec({**BASE, "scheduler": bad})
 
-
-def test_a_plain_arena_file_is_a_campaign_scenario(tmp_path):
-    """An arena file (no ``world:`` key) named in a spec is a poisson scenario of that arena."""
-    (tmp_path / "room.yaml").write_text("boundary: [[0, 0], [100, 0], [100, 80], [0, 80]]\n"
-                                        "obstacles: [[[30, 30], [50, 30], [50, 50], [30, 50]]]\n"
-                                        "source: [80, 60]\nstart: [10, 10, 0]\n")
-    (tmp_path / "spec.yaml").write_text("seeds: 2\nstrategies: [random-walk]\nscenarios: [room.yaml]\n")
-    spec = load_spec(tmp_path / "spec.yaml")
-    assert spec.n_episodes == 2
-    from reciprocity.scenarios import load_scenario
-    entry = spec.scenarios[0]
-    sc = load_scenario(entry.ref)
-    assert entry.label == "room" and sc.world == "poisson"
-    assert sc.arena.source.tolist() == [80.0, 60.0] and sc.arena.start[:2].tolist() == [10.0, 10.0]

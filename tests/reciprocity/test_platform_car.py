@@ -10,7 +10,17 @@ import reciprocity as r
 from reciprocity.platforms.car import CarPlatform, DrivingOptions, make_car_platform
 from reciprocity.errors import UnreachableTarget
 from reciprocity.intents import Measure, SampleGradient, StepToward
-from reciprocity.runner import search
+from reciprocity.api import strategy_parameters
+
+
+def search(arena, strategy, *, seed=0, h=1.5, source=None, params=None, car=None, platform="car"):
+    """One episode of `strategy` on `arena` (truth mesh 0.7 h), as ``(episode, strategy, platform)``."""
+    params = dict(params or {})
+    if "h" in strategy_parameters(strategy):
+        params.setdefault("h", h)
+    ep, strat, plats = r.execute(arena.with_scenario(source=source), strategy, seed=seed, params=params,
+                                 platform=platform, world={"truth_h": 0.7 * h}, platform_options=car)
+    return ep, strat, plats[0]
 
 
 @pytest.fixture(scope="module")

@@ -9,8 +9,10 @@ from scipy.stats import binom
 
 import arenas
 import reciprocity as r
+from reciprocity.env import SearchEnv, rollout
 from reciprocity.observations import Observation
-from reciprocity.spaces import mesh_space
+from reciprocity.scenarios import load_scenario
+from reciprocity.strategies.agent import StrategyAgent
 from reciprocity.strategies.information import expected_entropy
 from reciprocity.strategies.reciprocal import PRESETS
 from reciprocity.models.green import cached_solver
@@ -166,10 +168,9 @@ def test_info_rule_statistics_on_empty(empty):
     for seed in range(12):
         src = arena.random_free_points(1, rng, clearance=8.0)[0]
         start = np.append(arena.random_free_points(1, rng, clearance=5.0)[0], 0.0)
-        w = r.PoissonWorld(arena.with_scenario(source=src), noise=12.0, h=2.1)
-        ep = r.run_episode(w, r.ReciprocityStrategy(solver=solver, rule="info"),
-                           r.PointPlatform(mesh_space(arena.without_scenario(), 3.0)),
-                           starts=[start], seed=seed)
+        sc = load_scenario(arena.with_scenario(source=src, start=start)).with_world(dict(noise=12.0, truth_h=2.1))
+        env = SearchEnv(sc, platform_options={"route_h": 3.0})
+        ep = rollout(env, StrategyAgent(r.ReciprocityStrategy(solver=solver, rule="info")), seed)
         ok += ep.summary["success"]
         counts.append(ep.summary["n_measurements"])
     assert binom.cdf(9, 12, 0.99) < 0.01

@@ -8,8 +8,10 @@ from scipy.stats import binom
 
 import arenas
 import reciprocity as r
-from reciprocity.runner import search
+from reciprocity.env import SearchEnv, rollout
+from reciprocity.scenarios import load_scenario
 from reciprocity.spaces import mesh_space
+from reciprocity.strategies.agent import StrategyAgent
 
 
 @pytest.fixture(scope="module")
@@ -20,11 +22,9 @@ def empty():
 
 def episode(arena, strategy, *, source=None, start=None, seed=0, noise=12.0, truth_h=1.4, **world):
     """One point-observer episode in the Poisson world of `arena` (truth on a finer mesh)."""
-    arena = arena.with_scenario(source=source)
-    w = r.PoissonWorld(arena, noise=noise, h=truth_h, **world)
-    platform = r.PointPlatform(mesh_space(arena.without_scenario(), 3.0))
-    start = arena.start if start is None else start
-    return r.run_episode(w, strategy, platform, starts=[start], seed=seed)
+    arena = arena.with_scenario(source=source, start=start)
+    sc = load_scenario(arena).with_world(dict(noise=noise, truth_h=truth_h, **world))
+    return rollout(SearchEnv(sc, platform_options={"route_h": 3.0}), StrategyAgent(strategy), seed)
 
 
 def test_three_point_gradient_is_exact_for_planes():
@@ -134,12 +134,12 @@ def test_gradient_ascent_stops_when_it_stalls(empty):
 
 
 def test_episode_summary_and_trace_serialise(tmp_path):
-    ep, strat, plat = search(arenas.load("empty"), "reciprocity", seed=2, h=3.0)
+    ep, strat, plat = r.execute(arenas.load("empty"), "reciprocity", seed=2, params={"h": 3.0})
     data = json.loads(ep.to_json(tmp_path / "ep.json"))
     assert set(r.SUMMARY_KEYS) <= set(data)
     assert data["n_measurements"] == len(data["trace"])
     assert data["error"] == pytest.approx(np.hypot(*(np.subtract(data["estimate"], data["source"]))))
-    again, _, _ = search(arenas.load("empty"), "reciprocity", seed=2, h=3.0)
+    again, _, _ = r.execute(arenas.load("empty"), "reciprocity", seed=2, params={"h": 3.0})
     assert again.summary["estimate"] == ep.summary["estimate"]  # same seed, same result
 
 
@@ -163,11 +163,11 @@ def test_bad_gradient_parameters():
     with pytest.raises(r.SearchError, match="i_min < i_max"):
         r.GradientStrategy(i_min=50, i_max=20)
     with pytest.raises(r.SearchError, match="unknown strategy"):
-        search(arenas.load("empty"), "spiral")
+        r.execute(arenas.load("empty"), "spiral")
     with pytest.raises(r.SearchError, match="unknown car option"):
-        search(arenas.load("empty"), "gradient", platform="car", car={"wheels": 6})
-    with pytest.raises(r.SearchError, match="need platform='car'"):
-        search(arenas.load("empty"), "gradient", car={"rho": 12})
+        r.execute(arenas.load("empty"), "gradient", platform="car", platform_options={"wheels": 6})
+    with pytest.raises(r.SearchError, match="unknown point-observer option"):
+        r.execute(arenas.load("empty"), "gradient", platform_options={"rho": 12})
 
 
 def _strategy_with_belief(solver, arena, belief, **kw):

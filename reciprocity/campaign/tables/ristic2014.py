@@ -10,7 +10,8 @@ runs all used the lattice of its Fig. 2, which is not published.
 A run succeeds as in the paper (Sec. 5.1): the searcher steps on the source within 100
 steps *and* its true node then lies in the support of its searcher-position particles.
 The episode's own ``success`` is only the first part; the campaign row's ``success`` is
-both (:meth:`reciprocity.strategies.rbpf.RBPFStrategy.assess`), ``reached`` the first
+both (the environment tests the position support the strategy declares,
+:meth:`reciprocity.strategies.rbpf.RBPFStrategy.position_support`), ``reached`` the first
 and ``self_localised`` the second. The mean number of steps is over the successful runs
 (the paper's averaging).
 
