@@ -37,3 +37,83 @@ def test_the_layer_contracts_hold_without_exceptions():
     done = subprocess.run([exe], cwd=ROOT, capture_output=True, text=True)
     assert done.returncode == 0, done.stdout[-3000:]
     assert "0 broken" in done.stdout
+
+
+#: Per world kind: a scenario and two true sources. Whatever the true source, the agent's
+#: first action must be the same: before its first reading it knows only the public task.
+MOVES = {
+    "poisson": ("paper", [70.21, 70.21], [110.0, 110.0]),
+    "lattice": ("ristic-lattice", [0, 7], [3, -2]),
+    "plume": ("song-100", None, [20.0, 40.0]),
+    "filament": ("farrell", [20.0, 0.0], [40.0, 10.0]),
+}
+#: Parameters that keep a strategy's start-up cheap (the first action does not depend on them).
+CHEAP = {"h": 4.0, "n_particles": 200, "particles": 500}
+
+
+def _first_action(scenario, strategy, source, seed):
+    from reciprocity.env import SearchEnv
+    from reciprocity.strategies import STRATEGIES
+    from reciprocity.strategies.agent import StrategyAgent
+    from reciprocity.api import strategy_parameters
+    accepted = strategy_parameters(strategy)
+    params = {k: v for k, v in CHEAP.items() if k in accepted}
+    env = SearchEnv(scenario, world=None if source is None else {"source": source})
+    agent = StrategyAgent(STRATEGIES[strategy], params)
+    _, info = env.reset(seed=seed)
+    agent.reset(info["task"], info["agent_seed"])
+    return agent.act(), env.world.source, info["task"]
+
+
+def _pairs():
+    from reciprocity.strategies import STRATEGIES
+    return [pytest.param(kind, name, id=f"{kind}-{name}") for kind in MOVES
+            for name, cls in STRATEGIES.items() if kind in cls.worlds]
+
+
+def _public(task) -> dict:
+    """Everything a Task tells, as plain values (arenas as their file mapping)."""
+    import dataclasses
+    from collections.abc import Mapping
+
+    import arenas
+    import numpy as np
+
+    def plain(v):
+        if isinstance(v, arenas.Arena):
+            return arenas.to_dict(v)
+        if isinstance(v, Mapping):
+            return {k: plain(x) for k, x in v.items()}
+        if isinstance(v, np.ndarray):
+            return (np.round(v, 9) if v.dtype.kind == "f" else v).tolist()
+        if isinstance(v, (int, float, str, bool, type(None))):
+            return v
+        if isinstance(v, (tuple, list)):
+            return [plain(x) for x in v]
+        if dataclasses.is_dataclass(v):
+            return plain(dataclasses.asdict(v))
+        if hasattr(v, "points") and hasattr(v, "links"):        # a lattice (search space)
+            return plain({"points": v.points, "links": np.asarray(v.links),
+                          "present": getattr(v, "present", None)})
+        raise AssertionError(f"a Task value of unexpected type {type(v).__name__}: compare it here")
+    return {f: plain(getattr(task, f)) for f in task.__dataclass_fields__ if f != "reachable"}
+
+
+def _same(a, b) -> bool:
+    import numpy as np
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    return type(a) is type(b) and all(
+        np.allclose(getattr(a, f), getattr(b, f)) if getattr(a, f) is not None else getattr(b, f) is None
+        for f in a.__dataclass_fields__)
+
+
+@pytest.mark.parametrize("kind, strategy", _pairs())
+def test_the_first_action_does_not_depend_on_the_true_source(kind, strategy):
+    import numpy as np
+    scenario, here, there = MOVES[kind]
+    a, src_a, task_a = _first_action(scenario, strategy, here, seed=5)
+    b, src_b, task_b = _first_action(scenario, strategy, there, seed=5)
+    assert not np.allclose(src_a, src_b), "the two worlds must differ in their source"
+    assert _public(task_a) == _public(task_b), "the task told to the agent depends on the true source"
+    assert _same(a, b), f"{strategy} acts differently when only the true source moved: {a} vs {b}"
