@@ -114,9 +114,13 @@ class CarPlatform(Platform):
     Parameters
     ----------
     testbed : arenas.Testbed
-        Floor, sensor, car and camera.
+        Floor, sensor, car and camera: the physics, on the true walls.
     options : DrivingOptions
         Planner and controller settings.
+    believed : Arena, optional
+        The map the car plans on (its value functions, reachability, standable targets and
+        manoeuvre checks); default: the testbed's. When the true walls differ from the map,
+        the car meets them with its bumper, not with its planner.
     progress : bool
         Show a progress bar while a value-function bank is built.
     """
@@ -125,10 +129,11 @@ class CarPlatform(Platform):
     intents = (Measure, SampleGradient, StepToward)
 
     def __init__(self, testbed: Testbed, options: DrivingOptions | None = None, *,
-                 progress: bool = False):
+                 believed: Arena | None = None, progress: bool = False):
         super().__init__()
         self.testbed = testbed
-        self.arena: Arena = testbed.arena
+        #: The map the car plans on (never the true walls unless they are the map).
+        self.arena: Arena = (believed if believed is not None else testbed.arena).without_scenario()
         self.options = options or DrivingOptions()
         o, rho = self.options, testbed.spec.rho
         common = dict(rho=rho, h=o.h, ntheta=int(o.ntheta), clearance=o.clearance, reverse=True)
@@ -522,7 +527,8 @@ def make_car_platform(world, *, progress: bool = False, **car) -> CarPlatform:
     Parameters
     ----------
     world : PoissonWorld
-        The truth (its true walls, strength and paint curve).
+        The truth (its true walls, strength and paint curve) for the testbed's physics;
+        the car plans on the world's nominal arena.
     progress : bool
         Progress bar while a value-function bank is built.
     **car
@@ -532,4 +538,5 @@ def make_car_platform(world, *, progress: bool = False, **car) -> CarPlatform:
     """
     options, spec, px = check_car_options(car, world.arena)
     floor = world.floor(px_per_mm=px)
-    return CarPlatform(Testbed(world.true_arena, floor, car=spec), options, progress=progress)
+    return CarPlatform(Testbed(world.true_arena, floor, car=spec), options, believed=world.arena,
+                       progress=progress)

@@ -117,3 +117,24 @@ def test_the_first_action_does_not_depend_on_the_true_source(kind, strategy):
     assert not np.allclose(src_a, src_b), "the two worlds must differ in their source"
     assert _public(task_a) == _public(task_b), "the task told to the agent depends on the true source"
     assert _same(a, b), f"{strategy} acts differently when only the true source moved: {a} vs {b}"
+
+
+def test_the_car_plans_on_the_map_not_on_the_true_walls():
+    """Under ``wall_shift`` the testbed's physics has the true (grown) walls and the car's
+    planner, reachability and standable targets have the map the strategy was given."""
+    import arenas
+    import numpy as np
+    from reciprocity.env import SearchEnv
+    small = arenas.Arena.from_polygons([[0, 0], [60, 0], [60, 60], [0, 60]],
+                                       [[[24, 24], [32, 24], [32, 32], [24, 32]]], name="small",
+                                       source=(42.0, 15.0), strength=500.0, start=(10.0, 10.0, 0.0))
+    env = SearchEnv(small, platform="car", world={"mismatch": {"wall_shift": 3.0}, "truth_h": 2.0},
+                    platform_options={"px_per_mm": 0.5, "h": 2.0, "ntheta": 24})
+    env.reset(seed=1)
+    car, world = env.platforms[0], env.world
+    believed, true = car.arena, car.testbed.arena
+    assert np.allclose(believed.obstacles[0], world.arena.obstacles[0])          # the map
+    # a point inside the grown wall but outside the mapped one: the map says free
+    p = np.array([[33.5, 28.0]])
+    assert believed.contains(p)[0] and not true.contains(p)[0]
+    assert np.allclose(car.planner.workspace.geometry["obstacles"][0], believed.obstacles[0])
