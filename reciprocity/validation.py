@@ -17,7 +17,8 @@ import numpy as np
 
 from .errors import SearchError
 
-__all__ = ["Bound", "number", "whole", "point", "check_bounds", "starts_in_box", "MAX_COORD", "MAX_CELLS"]
+__all__ = ["Bound", "number", "whole", "positive", "point", "check_bounds", "starts_in_box", "MAX_COORD",
+           "MAX_CELLS"]
 
 #: Largest absolute coordinate of any world, in its length unit (cm for arenas).
 MAX_COORD = 1e5
@@ -71,6 +72,20 @@ def whole(value, key: str, lo: int, hi: int, *, where: str = "") -> int:
     if not ok:
         raise SearchError(f"{where}{key} must be a whole number from {lo} to {hi}; got {value!r}")
     return int(value)
+
+
+def positive(value, key: str, *, integer: bool = False, below_one: bool = False, none: bool = False):
+    """`value` as a positive finite number (an int if `integer`; below 1 if `below_one`;
+    None passes if `none`), else SearchError naming `key` and the value."""
+    if value is None and none:
+        return None
+    ok = isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(float(value)) \
+        and float(value) > 0 and (not integer or float(value).is_integer()) and (not below_one or value < 1)
+    if not ok:
+        kind = "positive whole number" if integer else "positive number"
+        tail = " below 1" if below_one else " or null" if none else ""
+        raise SearchError(f"{key} must be a {kind}{tail}; got {value!r}")
+    return int(value) if integer else float(value)
 
 
 def point(value, key: str, *, where: str = "", size: int = 2, bound: float = MAX_COORD) -> np.ndarray:

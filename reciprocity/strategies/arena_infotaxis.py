@@ -41,6 +41,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import SearchError
+from ..validation import positive
 from ..intents import Measure
 from ..outcome import StopReason
 from ..models.green import cached_solver
@@ -55,12 +56,6 @@ _GH_T, _GH_W = np.polynomial.hermite.hermgauss(3)
 _GH_W = _GH_W / np.sqrt(np.pi)
 #: Smallest reading noise (signal units), as the reciprocity search's MIN_NOISE.
 MIN_NOISE = 1.0
-
-
-def _positive(name, v):
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
-        raise SearchError(f"{name} must be a positive number; got {v!r}")
-    return float(v)
 
 
 def gaussian_expected_entropy(means: np.ndarray, logw: np.ndarray, support: np.ndarray,
@@ -125,17 +120,17 @@ class ArenaInfotaxis(Strategy):
 
     def __init__(self, *, step: float = 5.0, spacing: float = 2.5, support: int = 24, confidence: float = 0.9,
                  radius: float = 5.0, sigma="auto", h: float = 1.0, max_steps: int = 150):
-        self.step = _positive("step", step)
-        self.spacing = _positive("spacing", spacing)
+        self.step = positive(step, "step")
+        self.spacing = positive(spacing, "spacing")
         if isinstance(support, bool) or not isinstance(support, int) or support < 1:
             raise SearchError(f"support must be a positive whole number; got {support!r}")
         self.support = support
-        self.confidence = _positive("confidence", confidence)
+        self.confidence = positive(confidence, "confidence")
         if self.confidence >= 1:
             raise SearchError(f"confidence must lie in (0, 1); got {confidence!r}")
-        self.radius = _positive("radius", radius)
-        self.sigma = sigma if sigma == "auto" else _positive("sigma", sigma)
-        self.h = _positive("h", h)
+        self.radius = positive(radius, "radius")
+        self.sigma = sigma if sigma == "auto" else positive(sigma, "sigma")
+        self.h = positive(h, "h")
         if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
             raise SearchError(f"max_steps must be a positive whole number; got {max_steps!r}")
         self.max_steps = max_steps

@@ -58,11 +58,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import SearchError
+from ..validation import positive
 from ..models.detection import DetectionModel, WindEstimate
 from ..outcome import StopReason
 from . import register
 from .base import SearchContext, Status
-from .hmm_search import _PlaneWalk, _positive
+from .hmm_search import _PlaneWalk
 
 __all__ = ["DetectionInfotaxis", "entropy"]
 
@@ -124,16 +125,16 @@ class DetectionInfotaxis(_PlaneWalk):
                  min_gain: float = 1e-3, min_hits: int = 5,
                  memory: float | None = None, overshoot: int = 0):
         super().__init__()
-        self.resolution = _positive("resolution", resolution)
-        self.period = _positive("period", period)
-        self.lookahead = _positive("lookahead", lookahead)
-        self.found = _positive("found", found)
-        self.radius = _positive("radius", radius)
-        self.stop_mass = _positive("stop_mass", stop_mass, below_one=True)
-        self.min_time = _positive("min_time", min_time)
-        self.wind_window = _positive("wind_window", wind_window)
-        self.temper = _positive("temper", temper)
-        self.min_gain = _positive("min_gain", min_gain)
+        self.resolution = positive(resolution, "resolution")
+        self.period = positive(period, "period")
+        self.lookahead = positive(lookahead, "lookahead")
+        self.found = positive(found, "found")
+        self.radius = positive(radius, "radius")
+        self.stop_mass = positive(stop_mass, "stop_mass", below_one=True)
+        self.min_time = positive(min_time, "min_time")
+        self.wind_window = positive(wind_window, "wind_window")
+        self.temper = positive(temper, "temper")
+        self.min_gain = positive(min_gain, "min_gain")
         if self.temper > 1:
             raise SearchError(f"temper must lie in (0, 1]; got {temper!r}")
         if isinstance(n_headings, bool) or not isinstance(n_headings, int) or n_headings < 2:
@@ -142,7 +143,7 @@ class DetectionInfotaxis(_PlaneWalk):
         if isinstance(min_hits, bool) or not isinstance(min_hits, int) or min_hits < 0:
             raise SearchError(f"min_hits must be a non-negative whole number; got {min_hits!r}")
         self.min_hits = min_hits
-        self.memory = None if memory is None else _positive("memory", memory)
+        self.memory = None if memory is None else positive(memory, "memory")
         if isinstance(overshoot, bool) or not isinstance(overshoot, int) or overshoot < 0:
             raise SearchError(f"overshoot must be a non-negative whole number; got {overshoot!r}")
         self.overshoot = overshoot

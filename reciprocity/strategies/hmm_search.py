@@ -37,6 +37,7 @@ import numpy as np
 
 from ..beliefs.hmm import HMMSourceMap
 from ..errors import SearchError
+from ..validation import positive
 from ..intents import Move
 from ..models.hmm import CellGrid
 from ..outcome import StopReason
@@ -48,13 +49,6 @@ __all__ = ["HMMSearch", "SurgeCast", "FOOTPRINT"]
 #: A cell s is in the footprint of a reading in c when ``Ψ_sc`` is at least this
 #: fraction of the largest ``Ψ_s'c``.
 FOOTPRINT = 0.05
-
-
-def _positive(name, v, *, below_one=False) -> float:
-    ok = not isinstance(v, bool) and isinstance(v, (int, float)) and np.isfinite(v) and v > 0
-    if not ok or (below_one and v >= 1):
-        raise SearchError(f"{name} must be a positive number{' below 1' if below_one else ''}; got {v!r}")
-    return float(v)
 
 
 class _PlaneWalk(Strategy):
@@ -132,17 +126,17 @@ class HMMSearch(_PlaneWalk):
         super().__init__()
         if target not in ("bisect", "peak", "verify"):
             raise SearchError(f"target must be 'bisect', 'peak' or 'verify'; got {target!r}")
-        self.approach = _positive("approach", approach, below_one=True)
+        self.approach = positive(approach, "approach", below_one=True)
         if not isinstance(discount_visits, bool):
             raise SearchError(f"discount_visits must be true or false; got {discount_visits!r}")
         self.discount_visits = discount_visits
         self.target_rule = target
-        self.eps_d = _positive("eps_d", eps_d, below_one=True)
-        self.eps_c = _positive("eps_c", eps_c, below_one=True)
-        self.stop_mass = _positive("stop_mass", stop_mass, below_one=True)
-        self.radius = _positive("radius", radius)
-        self.period = _positive("period", period)
-        self.min_time = _positive("min_time", min_time)
+        self.eps_d = positive(eps_d, "eps_d", below_one=True)
+        self.eps_c = positive(eps_c, "eps_c", below_one=True)
+        self.stop_mass = positive(stop_mass, "stop_mass", below_one=True)
+        self.radius = positive(radius, "radius")
+        self.period = positive(period, "period")
+        self.min_time = positive(min_time, "min_time")
         if isinstance(horizon, bool) or not isinstance(horizon, int) or horizon < 1:
             raise SearchError(f"horizon must be a positive whole number of cells; got {horizon!r}")
         self.horizon = horizon
@@ -269,9 +263,9 @@ class SurgeCast(_PlaneWalk):
 
     def __init__(self, *, surge_time: float = 3.0, cast_leg: float = 4.0, declare_time: float = 40.0):
         super().__init__()
-        self.surge_time = _positive("surge_time", surge_time)
-        self.cast_leg = _positive("cast_leg", cast_leg)
-        self.declare_time = _positive("declare_time", declare_time)
+        self.surge_time = positive(surge_time, "surge_time")
+        self.cast_leg = positive(cast_leg, "cast_leg")
+        self.declare_time = positive(declare_time, "declare_time")
 
     def params(self) -> dict:
         return dict(surge_time=self.surge_time, cast_leg=self.cast_leg, declare_time=self.declare_time)

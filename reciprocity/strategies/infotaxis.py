@@ -42,6 +42,7 @@ import numpy as np
 from ..beliefs.base import MIN_PARTICLES
 from ..beliefs.particles import ParticleBelief, grid_particles
 from ..errors import SearchError
+from ..validation import positive
 from ..intents import Move, Stay
 from ..observations import Observation
 from . import register
@@ -55,15 +56,6 @@ __all__ = ["PlumeSearch", "Infotaxis", "FreeEnergyInfotaxis", "MaplessInfotaxis"
 TIE = 1e-10
 #: Steps between stored particle snapshots (figures).
 SNAPSHOT_EVERY = 10
-
-
-def _positive(name, v, *, integer=False):
-    ok = not isinstance(v, bool) and isinstance(v, (int, float)) and np.isfinite(v) and v > 0
-    if integer:
-        ok = ok and float(v).is_integer()
-    if not ok:
-        raise SearchError(f"{name} must be a positive {'whole ' if integer else ''}number; got {v!r}")
-    return int(v) if integer else float(v)
 
 
 def walker_proposal(nominal: dict, pos: np.ndarray, heading: float, choose) -> tuple:
@@ -205,15 +197,15 @@ class PlumeSearch(Strategy):
 
     def __init__(self, *, particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1,
                  eta: float = 1e-3):
-        self.n_particles = _positive("particles", particles, integer=True)
+        self.n_particles = positive(particles, "particles", integer=True)
         if self.n_particles < MIN_PARTICLES:
             raise SearchError(f"particles must be at least {MIN_PARTICLES} (Song et al. 2019 use 600); "
                               f"got {particles!r}")
-        self.resample_below = _positive("resample_below", resample_below)
+        self.resample_below = positive(resample_below, "resample_below")
         if self.resample_below >= 1:
             raise SearchError(f"resample_below must lie in (0, 1); got {resample_below!r}")
-        self.mcmc_steps = _positive("mcmc_steps", mcmc_steps, integer=True)
-        self.eta = _positive("eta", eta)
+        self.mcmc_steps = positive(mcmc_steps, "mcmc_steps", integer=True)
+        self.eta = positive(eta, "eta")
         if self.eta >= 0.5:
             raise SearchError(f"eta must lie in (0, 0.5); got {eta!r}")
         super().__init__()
@@ -315,9 +307,9 @@ class FreeEnergyInfotaxis(PlumeSearch):
 
     def __init__(self, *, alpha: float = 0.01, beta: float = 1.4, gamma: float = 3.0, particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1,
                  eta: float = 1e-3):
-        self.alpha = _positive("alpha", alpha)
-        self.beta = _positive("beta", beta)
-        self.gamma = _positive("gamma", gamma)
+        self.alpha = positive(alpha, "alpha")
+        self.beta = positive(beta, "beta")
+        self.gamma = positive(gamma, "gamma")
         super().__init__(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
 
     def params(self) -> dict:
@@ -356,8 +348,8 @@ class MaplessInfotaxis(PlumeSearch):
 
     def __init__(self, *, extent: float = 10.0, temperature: float = 1.0, particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1,
                  eta: float = 1e-3):
-        self.extent = _positive("extent", extent)
-        self.temperature = _positive("temperature", temperature)
+        self.extent = positive(extent, "extent")
+        self.temperature = positive(temperature, "temperature")
         super().__init__(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
 
     def params(self) -> dict:
@@ -433,7 +425,7 @@ class VoIInfotaxis(Strategy):
         if share not in ("all", "voi"):
             raise SearchError(f"share must be 'all' or 'voi'; got {share!r}")
         self.share = share
-        self.threshold = _positive("threshold", threshold)
+        self.threshold = positive(threshold, "threshold")
         self._single = dict(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
         Infotaxis(**self._single)          # validates the shared parameters
         super().__init__()

@@ -31,6 +31,7 @@ from scipy.special import gammaln, logsumexp
 
 from ..beliefs.rbpf import LOG_FLOOR, RBPFBelief
 from ..errors import SearchError
+from ..validation import positive
 from ..intents import Move, Stay
 from ..spaces.lattice import CONTROLS
 from ..models.lattice import LatticeGreen
@@ -45,14 +46,6 @@ COUNT_FLOOR = 1e-6
 #: Position probability above which a node is in the searcher's "support" for the
 #: paper's self-localisation test: 1/4000, the resolution of the RBPF's 4000 particles.
 SUPPORT = 1.0 / 4000
-
-
-def _positive(key, v, *, allow_none=False):
-    if v is None and allow_none:
-        return None
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
-        raise SearchError(f"{key} must be a positive number{' or null' if allow_none else ''}; got {v!r}")
-    return float(v)
 
 
 @register
@@ -160,8 +153,8 @@ class LatticeReciprocityStrategy(Strategy):
                               f"the RBPF) or 'auto'; got {map!r}")
         if rule not in ("infotaxis", "path", "path+mode"):
             raise SearchError(f"rule must be 'path', 'path+mode' or 'infotaxis'; got {rule!r}")
-        self.strength = _positive("strength", strength, allow_none=True)
-        self.eta0, self.theta0 = _positive("eta0", eta0), _positive("theta0", theta0)
+        self.strength = positive(strength, "strength", none=True)
+        self.eta0, self.theta0 = positive(eta0, "eta0"), positive(theta0, "theta0")
         if slip is not None and (isinstance(slip, bool) or not isinstance(slip, (int, float))
                                  or not 0 <= slip < 1):
             raise SearchError(f"slip must be a probability in [0, 1) or null; got {slip!r}")

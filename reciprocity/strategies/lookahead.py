@@ -55,10 +55,11 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import SearchError
+from ..validation import positive
 from ..models.plume import plume_rate
 from ..beliefs.particles import outcome_table, _poisson_ppf
 from . import register
-from .infotaxis import PlumeSearch, _positive
+from .infotaxis import PlumeSearch
 
 __all__ = ["Lookahead", "COSTS", "move_set"]
 
@@ -133,9 +134,9 @@ class Lookahead(PlumeSearch):
             raise SearchError(f"depth must be 1 or 2; got {depth!r}")
         self.cost = cost
         self.depth = depth
-        self.kappa = _positive("kappa", kappa)
-        self.power = _positive("power", power)
-        self.second_kmax = _positive("second_kmax", second_kmax, integer=True)
+        self.kappa = positive(kappa, "kappa")
+        self.power = positive(power, "power")
+        self.second_kmax = positive(second_kmax, "second_kmax", integer=True)
         super().__init__(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
 
     def params(self) -> dict:

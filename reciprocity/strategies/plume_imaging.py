@@ -38,18 +38,13 @@ from scipy.ndimage import gaussian_filter
 from scipy.special import gammaln
 
 from ..errors import SearchError
+from ..validation import positive
 from ..models.plume import plume_rate
 from . import register
 from .base import SearchContext, Status, Strategy
 from .infotaxis import walker_proposal
 
 __all__ = ["PlumeImaging"]
-
-
-def _positive(name, v):
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
-        raise SearchError(f"{name} must be a positive number; got {v!r}")
-    return float(v)
 
 
 @register
@@ -72,9 +67,9 @@ class PlumeImaging(Strategy):
     agents = 1
 
     def __init__(self, *, h: float = 2.0, reach: float = 10.0, d: float | None = None):
-        self.h = _positive("h", h)
-        self.reach = _positive("reach", reach)
-        self.d = None if d is None else _positive("d", d)
+        self.h = positive(h, "h")
+        self.reach = positive(reach, "reach")
+        self.d = None if d is None else positive(d, "d")
         super().__init__()
 
     def params(self) -> dict:
