@@ -131,8 +131,9 @@ class SearchEnv:
             p.reset(s if len(s) == 3 else np.append(s, 0.0), world, seeds.rng(ss))
         self._world, self._platforms, self._starts = world, plats, starts
         self._rounds, self._found_by, self._summary = 0, None, None
-        # the evaluator classifies the source before the run: can the first observer reach it?
-        reach = plats[0].reachable(np.asarray(world.source, dtype=float)[None])
+        # the evaluator classifies the source before the run: can the first observer reach it
+        # on the true walls? (the agent gets only the platform's own reachability, on its map)
+        reach = plats[0].truly_reachable(np.asarray(world.source, dtype=float)[None])
         self._source_reachable = True if reach is None else bool(reach[0])
         task = Task(world=world.kind, scenario=sc.name, world_nominal=world.nominal(),
                     platform=self.platform_name, platform_nominal=plats[0].nominal(),

@@ -50,6 +50,13 @@ class Platform(ABC):
         when it can reach the whole free region (the episode then adds no restriction)."""
         return None
 
+    def truly_reachable(self, points: np.ndarray) -> np.ndarray | None:
+        """:meth:`reachable` judged on the true walls from the true pose: the evaluator's
+        classification of a source (``source_reachable``), never shown to a strategy. The
+        same as :meth:`reachable` unless the platform plans on a map that differs from the
+        truth."""
+        return self.reachable(points)
+
     def nominal(self) -> dict:
         """What the platform knows of its own readings, added to the world's nominal
         description a strategy sees (e.g. ``reading_noise``: the standard deviation of one

@@ -193,18 +193,32 @@ class CarPlatform(Platform):
         return self._log
 
     def reachable(self, points: np.ndarray) -> np.ndarray | None:
-        """Points the car can reach from its pose: by symmetry of the reversible car, those
-        from which the value function of the car's own position is finite for some
-        heading (one HJ solve). None if the car's position is not a valid target."""
+        """Points the car can reach from its pose on its map: by symmetry of the reversible
+        car, those from which the value function of the car's own position is finite for
+        some heading (one HJ solve). None if the car's position is not a valid target."""
         try:
             vf = self._value_function(self._standable(self.testbed.estimate[:2].copy()))
         except (PlanningError, UnreachableTarget):
             return None
-        pts = np.asarray(points, dtype=float)
-        finite = np.zeros(len(pts), dtype=bool)
-        for th in np.linspace(0, 2 * np.pi, 8, endpoint=False):
-            finite |= np.isfinite(vf(pts[:, 0], pts[:, 1], np.full(len(pts), th), cubic=False))
-        return finite
+        return _finite_somewhere(vf, points)
+
+    def truly_reachable(self, points: np.ndarray) -> np.ndarray | None:
+        """:meth:`reachable` on the true walls from the true position (the evaluator's; one
+        extra HJ solve when the map differs from the walls)."""
+        true = self.testbed.arena.without_scenario()
+        if _same_walls(true, self.arena):
+            return self.reachable(points)
+        o = self.options
+        planner = OnDemandPlanner(true, rho=self.testbed.spec.rho, h=o.h, ntheta=int(o.ntheta),
+                                  clearance=o.clearance, reverse=True, maxsize=1)
+        here = self.testbed.car.pose[:2].copy()
+        if true.wall_distance(here[None])[0] < o.clearance:
+            return None
+        try:
+            vf = planner.get(here)
+        except PlanningError:
+            return None
+        return _finite_somewhere(vf, points)
 
     def nominal(self) -> dict:
         """``reading_noise``: the calibrated standard deviation of one dwell's reading,
@@ -454,6 +468,21 @@ class CarPlatform(Platform):
             self._drive(*best, o.bang_step)
             driven += o.bang_step
             est = tb.estimate.copy()
+
+
+def _finite_somewhere(vf, points) -> np.ndarray:
+    """Mask of `points` (n, 2) where value function `vf` is finite for some of 8 headings."""
+    pts = np.asarray(points, dtype=float)
+    finite = np.zeros(len(pts), dtype=bool)
+    for th in np.linspace(0, 2 * np.pi, 8, endpoint=False):
+        finite |= np.isfinite(vf(pts[:, 0], pts[:, 1], np.full(len(pts), th), cubic=False))
+    return finite
+
+
+def _same_walls(a: Arena, b: Arena) -> bool:
+    """Whether two arenas have the same boundary and obstacles."""
+    return (np.array_equal(a.boundary, b.boundary) and len(a.obstacles) == len(b.obstacles)
+            and all(np.array_equal(x, y) for x, y in zip(a.obstacles, b.obstacles)))
 
 
 #: Keys accepted by :func:`make_car_platform`: the driving options, the car's

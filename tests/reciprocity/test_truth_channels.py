@@ -138,3 +138,26 @@ def test_the_car_plans_on_the_map_not_on_the_true_walls():
     p = np.array([[33.5, 28.0]])
     assert believed.contains(p)[0] and not true.contains(p)[0]
     assert np.allclose(car.planner.workspace.geometry["obstacles"][0], believed.obstacles[0])
+
+
+def test_the_evaluator_classifies_the_source_on_the_true_walls():
+    """A source in a pocket whose mouth the true (grown) walls close: the car's map says
+    reachable, the environment's verdict ``source_reachable`` says not."""
+    import arenas
+    import numpy as np
+    from reciprocity.env import SearchEnv
+    pocket = arenas.Arena.from_polygons(
+        [[0, 0], [60, 0], [60, 60], [0, 60]],
+        [[[30, 20], [58, 20], [58, 40], [30, 40], [30, 33], [32, 33], [32, 38], [56, 38], [56, 22],
+          [32, 22], [32, 27], [30, 27]]],                     # a room whose door is 6 cm wide
+        name="pocket", source=(48.0, 30.0), strength=500.0, start=(10.0, 10.0, 0.0))
+    opts = {"px_per_mm": 0.5, "h": 1.0, "ntheta": 24, "clearance": 2.0}
+    src = np.array([[48.0, 30.0]])
+    open_env = SearchEnv(pocket, platform="car", world={"truth_h": 2.0}, platform_options=opts)
+    open_env.reset(seed=1)
+    shut = SearchEnv(pocket, platform="car", world={"truth_h": 2.0, "mismatch": {"wall_shift": 2.0}},
+                     platform_options=opts)
+    shut.reset(seed=1)
+    assert open_env.platforms[0].reachable(src)[0] and shut.platforms[0].reachable(src)[0]   # the map
+    assert open_env._source_reachable is True
+    assert shut._source_reachable is False                                                # the walls
