@@ -35,6 +35,7 @@ from arenas.files import load_yaml
 
 from .errors import SearchError
 from .registry import LazyRegistry
+from .seeds import EpisodeSeeds
 from .validation import MAX_COORD, number, whole
 
 __all__ = ["Scenario", "WorldKind", "WORLD_KINDS", "check_keys", "register_world", "load_scenario",
@@ -166,8 +167,8 @@ class Scenario:
 
     def build_world(self, seed: int):
         """The world of an episode with seed `seed` (its random parts drawn from it)."""
-        ss = np.random.SeedSequence([int(seed), 0x57A7])
-        world = self.kind.build(self.params, np.random.default_rng(ss))
+        seeds = EpisodeSeeds.from_seed(seed, 0)
+        world = self.kind.build(self.params, seeds.rng(seeds.build))
         world.success_radius = self.success_radius
         return world
 
@@ -179,7 +180,8 @@ class Scenario:
             return np.array([s[min(k, len(s) - 1)] for k in range(n_agents)], dtype=float)
         if self.kind.default_start is None:
             raise SearchError(f"scenario {self.name!r} has no start: give start: [x, y]")
-        rng = np.random.default_rng(np.random.SeedSequence([int(seed), 0x5747]))
+        seeds = EpisodeSeeds.from_seed(seed, 0)
+        rng = seeds.rng(seeds.starts)
         return np.array([self.kind.default_start(world, rng) for _ in range(n_agents)], dtype=float)
 
 

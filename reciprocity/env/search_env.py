@@ -19,7 +19,7 @@ from ..outcome import is_success
 from ..scenarios import MAX_AGENTS, Scenario, load_scenario
 from ..task import Percept, Report, Task
 from ..validation import whole
-from .seeds import EpisodeSeeds
+from ..seeds import EpisodeSeeds
 
 __all__ = ["SearchEnv", "intents_of"]
 
@@ -112,8 +112,7 @@ class SearchEnv:
             raise SearchError(f"seed must be a non-negative whole number; got {seed!r}")
         sc, n = self.scenario, self.n_agents
         self.seeds = seeds = EpisodeSeeds.from_seed(int(seed), n)
-        world = sc.kind.build(sc.params, seeds.rng(seeds.build))
-        world.success_radius = sc.success_radius
+        world = sc.build_world(seeds.seed)
         opts = dict(self.platform_options)
         if self.platform_name == "car" and (options or {}).get("progress"):
             opts["progress"] = True

@@ -1,4 +1,5 @@
-"""One seed tree per episode, derived in one place."""
+"""One seed tree per episode, derived in one place (the environment, the scenario's world
+and default starts all draw from it)."""
 
 from __future__ import annotations
 
