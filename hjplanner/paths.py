@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike
 from ._motion import LEFT, RIGHT, STRAIGHT, arc_step, arcs_are_clear
 from .dubins import local_exact
 from .errors import PlanningError
+from .options import SolverOptions
 
 __all__ = ["PlannedPath", "optimal_path", "merge_short_segments", "arc_step"]
 
@@ -171,7 +172,6 @@ def _first_minimum(values: np.ndarray) -> int:
 
 def _stencil_controls(vf) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Steering u, direction v and arc length s of the solver's stencils, straight and short first."""
-    from .solver import SolverOptions
     options = SolverOptions(**vf.meta.get("options", {}))
     ctrl = sorted(options.controls(vf.rho, vf.grid, vf.reverse), key=lambda c: (c[1] != 0, c[2]))
     v, u, s = (np.array(column) for column in zip(*ctrl))

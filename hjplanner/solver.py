@@ -10,66 +10,14 @@ import numpy as np
 
 from . import _sweep
 from ._grid import Grid, domain_geometry, lower_wall_distance, make_grid
-from ._motion import arc_samples, arc_step, controls, sample_spacing
+from ._motion import arc_samples, arc_step, sample_spacing
 from .dubins import local_exact
 from .errors import PlanningError
 from .limits import check_grid, length
+from .options import SolverOptions
 from .value_function import ValueFunction
 
 __all__ = ["solve", "SolverOptions"]
-
-
-class SolverOptions:
-    """Numerical knobs of :func:`solve` (defaults measured on the reference setup).
-
-    Parameters
-    ----------
-    turn_steps : tuple of int
-        Turning steps, each an arc turning by that many angular steps ``Δθ``
-        (arc length ``m ρ Δθ``), so that it lands on a grid heading.
-    straight_cells : tuple of float
-        Straight steps, as lengths in grid spacings ``h``.
-    local_radius : float
-        The exact initial layer of a point target covers the states whose
-        optimal path is shorter than ``r0 = local_radius * sqrt(ρ h)``
-        (at least the longest step plus 2 h): the region around the target
-        where the valley of φ, of width about ``d²/ρ`` at distance ``d``, is
-        thinner than the grid can resolve.  ``r0 → 0`` as ``h → 0``.
-    exact_radius : float
-        Lower bound on ``r0`` in length units (e.g. to hold the initial
-        layer fixed while refining the grid in a convergence study).
-    sweep_tol : float
-        Stop sweeping when no value decreases by more than ``sweep_tol * h``.
-    max_sweeps : int
-        Upper bound on Gauss-Seidel sweeps.
-    threads : int, optional
-        Threads sweeping groups of layers concurrently; default 1, which is
-        deterministic (bit for bit).  With 2 threads the Gauss-Seidel order
-        depends on timing, so results vary from run to run within the
-        stopping tolerance; on an idle 2-core machine 2 threads are 1.5x
-        faster.  :class:`ValueFunctionBank` runs one thread per process.
-    """
-
-    def __init__(self, turn_steps: tuple[int, ...] = (1, 2, 3, 4), straight_cells: tuple[float, ...] = (3.0,),
-                 local_radius: float = 2.0, exact_radius: float = 0.0, sweep_tol: float = 0.05,
-                 max_sweeps: int = 500, threads: int | None = None):
-        self.turn_steps = tuple(int(m) for m in turn_steps)
-        self.straight_cells = tuple(float(c) for c in straight_cells)
-        if not self.turn_steps or min(self.turn_steps) < 1 or not self.straight_cells or min(self.straight_cells) < 1:
-            raise PlanningError("turn_steps must be integers >= 1 and straight_cells numbers >= 1")
-        self.local_radius = float(local_radius)
-        self.exact_radius = float(exact_radius)
-        self.sweep_tol = float(sweep_tol)
-        self.max_sweeps = int(max_sweeps)
-        self.threads = None if threads is None else int(threads)
-
-    def as_dict(self) -> dict:
-        """JSON-serialisable form (stored in value-function metadata)."""
-        return {key: list(v) if isinstance(v, tuple) else v for key, v in vars(self).items()}
-
-    def controls(self, rho: float, grid: Grid, reverse: bool) -> list[tuple[int, int, float]]:
-        """The (direction, steering, arc length) of each stencil; see :func:`hjplanner._motion.controls`."""
-        return controls(rho, grid, self.turn_steps, self.straight_cells, reverse)
 
 
 @dataclass(frozen=True)

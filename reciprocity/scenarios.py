@@ -82,10 +82,10 @@ class WorldKind:
 
 #: World kinds by name; a built-in kind's module is imported on first use of its name.
 WORLD_KINDS: LazyRegistry = LazyRegistry({
-    "poisson": "reciprocity.worlds.poisson_kind",
-    "lattice": "reciprocity.worlds.lattice_kind",
-    "plume": "reciprocity.worlds.plume_kind",
-    "filament": "reciprocity.worlds.filament_kind",
+    "poisson": "reciprocity.kinds.poisson",
+    "lattice": "reciprocity.kinds.lattice",
+    "plume": "reciprocity.kinds.plume",
+    "filament": "reciprocity.kinds.filament",
 })
 
 #: Built-in scenario files by name (filled by :func:`_scenario_files`).

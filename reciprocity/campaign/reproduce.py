@@ -23,133 +23,18 @@ with figures only; printed as "–"). A table may write figures after its campai
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import SearchError
 from .cluster import TLSFiles
 from .execute import CampaignResult, run_campaign
 from .report import open_report_db
-from .spec import MAX_SEEDS, CampaignSpec, parse_spec
+from .paper_table import AMONG, TABLES, PaperTable, PaperValue, register
+from .spec import MAX_SEEDS
+from . import tables  # noqa: F401  (registers the papers' tables)
 
 __all__ = ["PaperValue", "PaperTable", "TABLES", "AMONG", "register", "reproduce", "compare",
            "comparison_markdown"]
-
-#: Which runs a value averages: all finished runs (None) or the successful ones.
-AMONG = (None, "success")
-
-
-@dataclass(frozen=True)
-class PaperValue:
-    """One number of a published table (or one of ours the paper has no number for).
-
-    Attributes
-    ----------
-    variant : str
-        Strategy variant label in the campaign (``"reciprocity"``, ``"rbpf[n=500]"``).
-    metric : str
-        Result column: ``n_measurements``, ``n_samples``, ``steps``, ``error``,
-        ``path_length``, ``sim_time_s``, ``success``, ``messages``,
-        ``distance_at_stop``, ... A boolean column is a rate (Wilson interval).
-    value : float or None
-        The paper's value, in the column's unit (a rate as a fraction); None when the
-        paper prints no number for it (printed as "–").
-    scenario : str, optional
-        Scenario label, when the campaign has several.
-    among : {None, "success"}
-        Average over all finished runs (None) or over the successful runs only.
-    pm : float, optional
-        The ± the paper prints beside `value` (its own convention; see the table's note).
-    row : str, optional
-        Row label in the printed table (default: ``variant (scenario)``).
-
-    Raises
-    ------
-    SearchError
-        `among` not in :data:`AMONG`.
-    """
-
-    variant: str
-    metric: str
-    value: float | None
-    scenario: str | None = None
-    among: str | None = None
-    pm: float | None = None
-    row: str | None = None
-
-    def __post_init__(self):
-        if self.among not in AMONG:
-            raise SearchError(f"PaperValue among must be None (all runs) or 'success'; "
-                              f"got {self.among!r}")
-
-    @property
-    def label(self) -> str:
-        """The row label."""
-        if self.row is not None:
-            return self.row
-        return self.variant if self.scenario is None else f"{self.variant} ({self.scenario})"
-
-
-@dataclass(frozen=True)
-class PaperTable:
-    """A published table as a campaign.
-
-    Attributes
-    ----------
-    name : str
-        Registry key (``reciprocity reproduce NAME``).
-    title : str
-        One line: what the table shows.
-    reference : str
-        Paper and table.
-    build_spec : callable
-        ``build_spec(runs) -> dict``: the campaign spec mapping (see
-        :mod:`reciprocity.campaign.spec`) with `runs` seeds.
-    paper : tuple of PaperValue
-        The paper's numbers (and ours it has none for), in print order.
-    default_runs : int
-        Seeds when ``--runs`` is not given.
-    note : str
-        Caveats printed under the comparison (settings that differ from the paper's,
-        what the paper's ± means, why numbers differ).
-    after : callable, optional
-        ``after(directory, spec) -> list of Path``: called once the campaign is complete
-        (e.g. the paper's figures, example tracks); writes under `directory` and returns
-        the files written.
-    """
-
-    name: str
-    title: str
-    reference: str
-    build_spec: Callable[[int], dict]
-    paper: tuple[PaperValue, ...]
-    default_runs: int = 20
-    note: str = ""
-    after: Callable[[Path, CampaignSpec], list[Path]] | None = None
-
-    def spec(self, runs: int | None = None) -> CampaignSpec:
-        """The validated campaign with `runs` seeds (default :attr:`default_runs`)."""
-        return parse_spec({"name": self.name, **self.build_spec(runs or self.default_runs)})
-
-
-#: Registered tables by name.
-TABLES: dict[str, PaperTable] = {}
-
-
-def register(table: PaperTable) -> PaperTable:
-    """Add `table` to :data:`TABLES`; returns it.
-
-    Raises
-    ------
-    SearchError
-        A table of that name is already registered.
-    """
-    if table.name in TABLES:
-        raise SearchError(f"a reproducible table named {table.name!r} is already registered")
-    TABLES[table.name] = table
-    return table
-
 
 def _table(name: str) -> PaperTable:
     if name not in TABLES:
@@ -290,4 +175,3 @@ def reproduce(name: str, directory, *, runs: int | None = None, workers: int | N
     return table, result, rows, files
 
 
-from . import tables  # noqa: E402,F401  (registers the papers' tables; they import this module)

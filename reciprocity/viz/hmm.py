@@ -102,7 +102,7 @@ def farrell_figures(out, *, seed: int = 3, params: FilamentParams | None = None)
     out.mkdir(parents=True, exist_ok=True)
     if params is None:
         from ..scenarios import load_scenario
-        from ..worlds.filament_kind import filament_params
+        from ..kinds.filament import filament_params
         params = filament_params(load_scenario("farrell").params)
     p = params
     grid = CellGrid(p.region, 40, 25)

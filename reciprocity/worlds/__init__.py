@@ -1,6 +1,5 @@
-"""Worlds (truth): what the sensor really reads. Each world kind registers itself with
-:data:`reciprocity.scenarios.WORLD_KINDS` when its ``*_kind`` module is imported, which
-the registry does on first use of the kind's name."""
+"""Worlds (truth): what the sensor really reads. Their wiring to scenario files and
+platforms is in :mod:`reciprocity.kinds`."""
 
 from .base import Reading, World
 from .poisson import Mismatch, PoissonWorld, TRUTH_MESH_RATIO, truth_solver

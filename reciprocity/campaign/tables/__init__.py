@@ -1,7 +1,7 @@
 """The published tables that ``reciprocity reproduce`` re-runs, one module per paper.
 
 Importing this package registers every table in
-:data:`reciprocity.campaign.reproduce.TABLES` (``reciprocity.campaign.reproduce`` imports
+:data:`reciprocity.campaign.paper_table.TABLES` (``reciprocity.campaign.reproduce`` imports
 it):
 
 - :mod:`.landa2020` — ``landa2020-testbed`` (reciprocity vs gradient on the car testbed);

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..reproduce import PaperTable, PaperValue, register
+from ..paper_table import PaperTable, PaperValue, register
 from ..spec import CampaignSpec
 
 __all__ = ["FARRELL_HMM", "FARRELL_STRATEGIES", "FARRELL_VARIANTS", "figures"]

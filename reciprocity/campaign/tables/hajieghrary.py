@@ -17,7 +17,7 @@ and "–" for the paper. The single searcher sends no messages (its row has none
 
 from __future__ import annotations
 
-from ..reproduce import PaperTable, PaperValue, register
+from ..paper_table import PaperTable, PaperValue, register
 
 __all__ = ["HAJIEGHRARY_VOI"]
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..reproduce import PaperTable, PaperValue, register
+from ..paper_table import PaperTable, PaperValue, register
 
 __all__ = ["LANDA2020_TESTBED"]
 

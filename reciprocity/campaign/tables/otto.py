@@ -10,7 +10,7 @@ per policy.
 
 from __future__ import annotations
 
-from ..reproduce import PaperTable, PaperValue, register
+from ..paper_table import PaperTable, PaperValue, register
 
 __all__ = ["OTTO_2D", "OTTO_2D_TABLE"]
 

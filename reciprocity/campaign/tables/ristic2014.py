@@ -28,7 +28,7 @@ the far field, depending on the lattice.
 
 from __future__ import annotations
 
-from ..reproduce import PaperTable, PaperValue, register
+from ..paper_table import PaperTable, PaperValue, register
 
 __all__ = ["RISTIC2014_TABLE1", "RISTIC2014_TABLE2", "TABLE1_ROWS", "TABLE2_ROWS"]
 

@@ -45,7 +45,7 @@ Other differences, measured with the former runner (2026-11-23):
 
 from __future__ import annotations
 
-from ..reproduce import PaperTable, PaperValue, register
+from ..paper_table import PaperTable, PaperValue, register
 
 __all__ = ["SONG2019_TABLE1", "SONG2019_HALFSTEP", "SONG_TABLE1", "SONG_SCALES", "SONG_MAX_TURN",
            "halfstep_world"]

@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import MAX_COORD, Bound, point, starts_in_box, whole
-from .filament import FilamentParams, FilamentWorld
+from ..worlds.filament import FilamentParams, FilamentWorld
 
 __all__ = ["FILAMENT", "FILAMENT_KEYS", "filament_params", "source_cell"]
 

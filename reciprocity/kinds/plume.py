@@ -38,7 +38,7 @@ from scipy.stats import poisson
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import MAX_CELLS, MAX_COORD, Bound, point, starts_in_box, whole
-from .plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, plume_length
+from ..worlds.plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, plume_length
 
 __all__ = ["PLUME", "PLUME_KEYS", "hit_probabilities", "otto_max_hits", "otto_initial_hit_probabilities"]
 

@@ -10,7 +10,7 @@ from arenas import Arena, ArenaError
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import number, point
-from .poisson import Mismatch, PoissonWorld, TRUTH_MESH_RATIO
+from ..worlds.poisson import Mismatch, PoissonWorld, TRUTH_MESH_RATIO
 
 __all__ = ["POISSON", "POISSON_KEYS"]
 

@@ -9,7 +9,7 @@ from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..spaces.lattice import LatticeSpace
 from ..validation import point
-from .lattice import PERCOLATION_THRESHOLD, LatticeWorld, draw_links
+from ..worlds.lattice import PERCOLATION_THRESHOLD, LatticeWorld, draw_links
 
 __all__ = ["LATTICE", "LATTICE_KEYS", "MIN_RADIUS", "MAX_RADIUS"]
 
