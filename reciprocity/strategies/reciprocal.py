@@ -173,33 +173,17 @@ class ReciprocityStrategy(Strategy):
     A_eps``". Parameters given together with a preset override it (``preset="paper",
     sigma=17`` is the paper with ``sigma = 17``).
 
-    **Deviations of the defaults from the paper**, each measured over the same 100
-    random (source, start) pairs on ``paper`` (point observer, noise 12; table in the
-    README, ``benchmarks/bench_rules.py``):
+    **Deviations of the defaults from the paper** (each measured, with the experiments
+    that justify it, in ``benchmarks/reciprocity_rules.md``):
 
-    - ``combine="product"`` instead of eq. (8)'s mean: with the mean every map is
-      ``p_k = 1`` on its own level set, so ``P_M >= 1/M`` on every band and the region
-      ``{P_M >= 0.1}`` cannot shrink below the union of the bands until ``M > 10``; the
-      normalised product is the likelihood of all readings.
-    - ``sigma="calibrated"``: ``sqrt 2`` times the reading noise (16.97 for noise 12)
-      instead of the noise itself: eq. (7) is ``exp(-r^2/sigma^2)``, the Gaussian
-      likelihood ``exp(-r^2/(2 s^2))`` of noise std ``s`` needs ``sigma = sqrt(2) s``;
-      with ``sigma = s`` the product is over-confident and converges on false modes. On
-      a platform that reports its own calibrated noise (the car) that noise is used
-      instead of the world's stated one, with its shared part (the calibration fit) as
-      one offset and CALIBRATED_MODEL_ERROR of the predicted reading for the model's own
-      error: on the car's 30 pairs, median 4 readings instead of 5 and sources out of
-      reach recognised after 2-4 readings instead of 6-8, every reachable source found.
-    - ``rule="axis"`` instead of step 13's nearest point: the nearest point in
-      ``{v_k > I_k}`` creeps ``d`` at a time.
-    - the extent rule (``extent_tol = 5 cm``): a thin curved sliver can have a small
-      area and still be long.
-    - the tail rule (``tail_tol = 10 cm``): ``{P_M >= 0.1}`` is a 90 % credible region
-      (``Δχ² <= 4.6`` in two dimensions), so about one search in ten has the source
-      outside it; when the rest of the belief is a second mode, the search converges on
-      the wrong one. Requiring the 99 % region (``P_M >= 0.01``) to lie within 10 cm
-      removed 4 of the 5 false convergences of ``rule="info"`` over 100 + 100 pairs on
-      ``paper`` and ``maze`` (the fifth ended 5.7 cm off).
+    - ``combine="product"`` (the likelihood of all readings) instead of eq. (8)'s mean;
+    - ``sigma="calibrated"``: ``sqrt 2`` times the reading noise (eq. (7) is
+      ``exp(-r^2/sigma^2)``); on a platform that reports its own calibrated noise (the
+      car), that noise, its shared part as one offset, and CALIBRATED_MODEL_ERROR of the
+      predicted reading as the model's own error;
+    - ``rule="axis"`` instead of step 13's nearest point;
+    - the extent rule (``extent_tol = 5 cm``);
+    - the tail rule (``tail_tol = 10 cm``).
 
     Parameters
     ----------
@@ -218,10 +202,7 @@ class ReciprocityStrategy(Strategy):
         times its independent part, with its shared part ``reading_bias`` imaged as one
         offset of all readings and CALIBRATED_MODEL_ERROR as the model's relative error
         (:class:`~reciprocity.imaging.ImagingMap` ``offset_sd``, ``model_error``); else as
-        ``"auto"``. Each at least MIN_NOISE. The calibrated noise alone (about 2 units
-        where the world states 12) converged runs 6 and 89 cm off on the car: the
-        calibration's error is the same for every reading of a run, and the FEM field
-        near the source is 1-5 % off the truth's.
+        ``"auto"``. Each at least MIN_NOISE.
     eps : float
         Threshold ``0 < eps < 1`` defining the region of possible sources.
     area_tol : float
@@ -247,10 +228,9 @@ class ReciprocityStrategy(Strategy):
     strength_range : "decade" or (float, float) or "fit"
         With ``strength=None``: the strength is integrated out of the likelihood over a
         log-uniform prior on ``(lo, hi)``; ``"decade"`` (default) is a tenth to ten times the
-        world's nominal strength; ``"fit"`` fits it per point by least squares instead (the
-        paper's setting has the strength known; the fit lets a far point explain small
-        readings with ``c ≈ 0`` and was the cause of most step-cap runs with unknown
-        strength). Only with ``combine="product"``; the mean keeps the fit.
+        world's nominal strength; ``"fit"`` fits it per point by least squares instead
+        (compared in ``benchmarks/reciprocity_rules.md``). Only with ``combine="product"``;
+        the mean keeps the fit.
     h : float
         Mesh size (cm) of the solver built by :meth:`start` when none is given.
     solver : GreenSolver, optional
