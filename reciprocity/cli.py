@@ -17,7 +17,6 @@ from .api import check, execute, strategy_parameters
 from .errors import ReciprocityError
 from .scenarios import load_scenario, scenario_description, scenario_names
 from .strategies import STRATEGIES
-from .worlds import TRUTH_MESH_RATIO
 
 __all__ = ["main"]
 
@@ -219,8 +218,6 @@ def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
     if strategy in STRATEGIES and "h" in strategy_parameters(strategy):
         params.setdefault("h", args.h)
     sc = load_scenario(scenario)
-    if sc.world == "poisson":
-        world.setdefault("truth_h", args.h * TRUTH_MESH_RATIO)
     options = _params(args.car, "--car", "planner=bank")
     platform = getattr(args, "platform", None)
     if options and (platform or sc.platform) != "car":
@@ -325,7 +322,7 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--noise", type=float, default=None,
                    help="point observer: noise std, signal units (default 12); the car's sensor has "
                         "its own noise, 12 ADC counts")
-    p.add_argument("--h", type=float, default=1.0, help="mesh size in cm (default 1)")
+    p.add_argument("--h", type=float, default=1.0, help="mesh size of the strategy's model in cm (default 1); the truth keeps its own")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 

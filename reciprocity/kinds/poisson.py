@@ -10,7 +10,7 @@ from arenas import Arena, ArenaError
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import number, point
-from ..worlds.poisson import Mismatch, PoissonWorld, TRUTH_MESH_RATIO
+from ..worlds.poisson import Mismatch, PoissonWorld, TRUTH_H
 
 __all__ = ["POISSON", "POISSON_KEYS"]
 
@@ -18,6 +18,9 @@ __all__ = ["POISSON", "POISSON_KEYS"]
 POISSON_KEYS = ("arena", "source", "strength", "noise", "truth_h", "mismatch")
 #: Largest sensor noise (standard deviation, signal units).
 MAX_NOISE = 1e6
+#: Most triangles of the truth's mesh (its quadratic elements then have about 2e6 unknowns,
+#: a factorization of a few hundred MB).
+MAX_TRUTH_TRIANGLES = 1_000_000
 
 
 def _check(params: dict) -> dict:
@@ -45,10 +48,13 @@ def _check(params: dict) -> dict:
     out["source"] = arena.source.tolist()
     out["strength"] = float(arena.strength)
     out["noise"] = number(params.get("noise", 12.0), "noise", 0.0, MAX_NOISE, unit="(signal units)")
-    h = params.get("truth_h", TRUTH_MESH_RATIO)
-    if isinstance(h, bool) or not isinstance(h, (int, float)) or not 0.1 <= h <= 10:
-        raise SearchError(f"truth_h must be a mesh size in cm between 0.1 and 10; got {h!r}")
-    out["truth_h"] = float(h)
+    h = number(params.get("truth_h", TRUTH_H), "truth_h", 0.5, 10.0, unit="cm")
+    triangles = arena.area / (0.65 * h * h)
+    if triangles > MAX_TRUTH_TRIANGLES:
+        least = (arena.area / (0.65 * MAX_TRUTH_TRIANGLES)) ** 0.5
+        raise SearchError(f"truth_h of {h:g} cm would mesh arena {arena.name!r} with about {triangles:.2g} "
+                          f"triangles (at most {MAX_TRUTH_TRIANGLES:.0e}); use truth_h >= {least:.3g} cm")
+    out["truth_h"] = h
     m = params.get("mismatch") or {}
     if isinstance(m, Mismatch):
         m = m.__dict__

@@ -2,6 +2,6 @@
 platforms is in :mod:`reciprocity.kinds`."""
 
 from .base import Reading, World
-from .poisson import Mismatch, PoissonWorld, TRUTH_MESH_RATIO, truth_solver
+from .poisson import Mismatch, PoissonWorld, TRUTH_H, TRUTH_ORDER, truth_solver
 
-__all__ = ["Mismatch", "PoissonWorld", "Reading", "TRUTH_MESH_RATIO", "World", "truth_solver"]
+__all__ = ["Mismatch", "PoissonWorld", "Reading", "TRUTH_H", "TRUTH_ORDER", "World", "truth_solver"]

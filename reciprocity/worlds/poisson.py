@@ -1,7 +1,8 @@
 """The Poisson arena world: the FEM signal of a point source behind walls, read with noise.
 
-The truth is ``-Δu = c δ(x - S)`` on the free region, solved on a mesh finer than any
-strategy's (no inverse crime), read at the observer's true position with Gaussian noise
+The truth is ``-Δu = c δ(x - S)`` on the free region, solved with its own discretisation
+(quadratic elements on its own graded mesh, whatever mesh a strategy chooses: no inverse
+crime), read at the observer's true position with Gaussian noise
 (point observer), or painted on the testbed floor and read through the calibrated
 reflectance sensor (car). Mismatch options make the truth differ from what a strategy
 is told, on purpose.
@@ -21,21 +22,24 @@ from ..errors import SearchError
 from ..fem.green import Field, GreenSolver
 from .base import Reading, World
 
-__all__ = ["PoissonWorld", "Mismatch", "TRUTH_MESH_RATIO", "truth_solver", "shifted_walls"]
+__all__ = ["PoissonWorld", "Mismatch", "TRUTH_H", "TRUTH_ORDER", "truth_solver", "shifted_walls"]
 
-#: The true signal is computed on a mesh this much finer than the strategy's, so the
-#: data do not come from the very model that inverts them (no "inverse crime").
-TRUTH_MESH_RATIO = 0.7
-#: Grading of the truth's mesh toward re-entrant corners (that of the search meshes).
-TRUTH_GRADING = 0.5
+#: Mesh size of the truth (cm), whatever a strategy's ``h``: the truth has its own
+#: discretisation, so the data never come from the very model that inverts them (no
+#: "inverse crime"). Its error is in ``benchmarks/truth_discretisation.md``.
+TRUTH_H = 1.4
+#: Element order of the truth: quadratic, where every strategy's model is linear.
+TRUTH_ORDER = 2
+#: Grading of the truth's mesh toward re-entrant corners (what P2 needs to keep its order).
+TRUTH_GRADING = 0.75
 
 
 @lru_cache(maxsize=8)
 def truth_solver(arena: Arena, h: float) -> GreenSolver:
-    """The truth's own solver of `arena` (its true walls) at mesh size `h`: its own mesh and
-    factorization, cached for the truth alone, so no strategy ever holds it (a strategy's
-    solvers come from :func:`reciprocity.models.green.cached_solver`)."""
-    return GreenSolver(arena, h=h, grading=TRUTH_GRADING)
+    """The truth's own solver of `arena` (its true walls) at mesh size `h` (cm): P2 elements
+    on its own graded mesh, factorized and cached for the truth alone, so no strategy ever
+    holds it (a strategy's solvers come from :func:`reciprocity.models.green.cached_solver`)."""
+    return GreenSolver(arena, h=h, order=TRUTH_ORDER, grading=TRUTH_GRADING)
 
 
 @dataclass(frozen=True)
@@ -127,7 +131,7 @@ class PoissonWorld(World):
     noise : float
         Nominal noise standard deviation of one reading (signal units).
     h : float
-        Mesh size of the truth, cm (finer than a strategy's 1 cm by default).
+        Mesh size of the truth's quadratic elements, cm (its own, whatever a strategy's).
     mismatch : Mismatch, optional
         How the truth departs from what the strategy is told.
     success_radius : float
@@ -136,7 +140,7 @@ class PoissonWorld(World):
 
     kind = "poisson"
 
-    def __init__(self, arena: Arena, *, noise: float = 12.0, h: float = TRUTH_MESH_RATIO,
+    def __init__(self, arena: Arena, *, noise: float = 12.0, h: float = TRUTH_H,
                  mismatch: Mismatch | None = None, success_radius: float = 5.0):
         if arena.source is None:
             raise SearchError(f"arena {arena.name!r} has no true source: give source: [x, y]")

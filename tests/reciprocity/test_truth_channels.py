@@ -8,14 +8,14 @@ from pathlib import Path
 import pytest
 
 from reciprocity.api import execute
-from reciprocity.worlds.poisson import truth_solver
+from reciprocity.worlds.poisson import TRUTH_H, TRUTH_ORDER, truth_solver
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_the_truth_never_shares_a_solver_with_a_strategy():
-    """Even at the truth's own mesh size the strategy's solver, mesh and factorization are
-    its own: the data never come from the very model that inverts them."""
+    """Even at the truth's own mesh size the strategy's solver, mesh, elements and
+    factorization are its own: the data never come from the very model that inverts them."""
     h = 3.0
     episode, strategy, _ = execute("paper", "reciprocity", seed=1, params={"h": h, "max_steps": 2},
                                    world={"truth_h": h})
@@ -24,6 +24,22 @@ def test_the_truth_never_shares_a_solver_with_a_strategy():
     assert strategy.solver is not truth
     assert strategy.solver.mesh is not truth.mesh
     assert strategy.solver._lu is not truth._lu
+    assert (truth.order, strategy.solver.order) == (TRUTH_ORDER, 1)
+    assert truth.n_unknowns != strategy.solver.n_unknowns
+
+
+@pytest.mark.parametrize("h", ["0.7", "2.5"])
+def test_the_truths_discretisation_does_not_follow_the_strategys_h(h):
+    """`--h` sets the strategy's mesh only: the world's mesh size and elements stay its own."""
+    from reciprocity.cli import _plan, build_parser
+    from reciprocity.env import SearchEnv
+    args = build_parser().parse_args(["run", "--arena", "paper", "--strategy", "reciprocity", "--h", h])
+    plan = _plan(args, "paper", "reciprocity", {})
+    assert plan.params["h"] == float(h)
+    env = SearchEnv(plan.scenario, world=plan.world)
+    env.reset(seed=0)
+    assert env.world.h == TRUTH_H
+    assert env.world.describe()["truth_h"] == TRUTH_H
 
 
 def test_the_layer_contracts_hold_without_exceptions():
