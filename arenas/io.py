@@ -19,7 +19,6 @@ at most 1 MB of UTF-8 text, no duplicate keys, aliases capped.
 
 from __future__ import annotations
 
-import math
 from importlib import resources
 from pathlib import Path
 
@@ -29,6 +28,7 @@ import yaml
 from .errors import ArenaError
 from .files import load_yaml
 from .geometry import DEFAULT_STRENGTH, MAX_COORD_CM, MAX_STRENGTH, Arena
+from .poses import pose_from_degrees, pose_to_degrees
 
 __all__ = ["load", "save", "builtin_names", "from_dict", "to_dict", "DEFAULT_STRENGTH"]
 
@@ -146,7 +146,7 @@ def from_dict(data: dict, where: str = "arena") -> Arena:
             raise ArenaError(f"{where}: 'start' must be [x, y] or [x, y, heading_deg]; "
                              f"got {data['start']!r}")
         if start.shape == (3,):
-            start = np.array([start[0], start[1], math.radians(start[2])])
+            start = pose_from_degrees(start)
     name = str(data.get("name", "arena"))
     kw = dict(name=name, source=source, strength=strength, start=start)
     try:
@@ -179,8 +179,7 @@ def to_dict(arena: Arena) -> dict:
         out["source"] = [float(v) for v in arena.source]
     out["strength"] = float(arena.strength)
     if arena.start is not None:
-        out["start"] = [float(arena.start[0]), float(arena.start[1]),
-                        math.degrees(float(arena.start[2]))]
+        out["start"] = pose_to_degrees(arena.start)
     return out
 
 

@@ -12,6 +12,7 @@ from pathlib import Path
 import arenas
 from arenas import ArenaError
 from arenas.files import check_output, parse_yaml
+from arenas.poses import pose_from_degrees
 
 from .api import check, execute, strategy_parameters
 from .errors import ReciprocityError
@@ -165,7 +166,7 @@ def _world_overrides(args) -> dict:
         world["strength"] = args.strength
     if args.start is not None:
         st = _floats(args.start, "--start", (2, 3))
-        world["start"] = st[:2] + ([math.radians(st[2])] if len(st) == 3 else [])
+        world["start"] = pose_from_degrees(st).tolist()
     if args.noise is not None:
         world["noise"] = args.noise
     if args.mismatch:

@@ -32,6 +32,7 @@ from numbers import Real
 import numpy as np
 import arenas
 from arenas.files import load_yaml
+from arenas.poses import pose_from_degrees
 
 from .errors import SearchError
 from .registry import LazyRegistry
@@ -201,8 +202,7 @@ def _starts(value, where: str, *, degrees: bool) -> np.ndarray:
     if arr.shape[1] == 2:
         arr = np.column_stack([arr, np.zeros(len(arr))])
     elif degrees:
-        arr = arr.copy()
-        arr[:, 2] = np.radians(arr[:, 2])
+        arr = pose_from_degrees(arr)
     return arr
 
 

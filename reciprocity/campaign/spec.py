@@ -66,12 +66,14 @@ import json
 import math
 import re
 from collections.abc import Iterator, Mapping
+from numbers import Real
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from arenas.files import load_yaml, read_text
+from arenas.poses import pose_from_degrees
 
 from ..errors import SearchError
 from ..scenarios import Scenario, load_scenario, scenario_names
@@ -579,7 +581,7 @@ def world_overrides(world: Mapping) -> dict:
     """
     def pose(p):
         if isinstance(p, (list, tuple)) and len(p) == 3 and not isinstance(p[0], (list, tuple)):
-            return [p[0], p[1], float(np.radians(float(p[2])))]
+            return pose_from_degrees(p).tolist() if all(isinstance(v, Real) and not isinstance(v, bool) for v in p) else p
         return p                       # (x, y) or malformed: with_world says what is wrong
 
     out = dict(world)

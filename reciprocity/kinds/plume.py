@@ -173,8 +173,12 @@ def _build(params: dict, rng: np.random.Generator) -> PlumeWorld:
     max_hits = params.get("max_hits")
     if max_hits == "auto":
         max_hits = otto_max_hits(p, params["step"], params["dt"])
+    n_turns = params.get("n_turns", 7)
+    # the one conversion of the turns: written in degrees, used in radians (the heading changes
+    # a walker may choose, in the order strategies try them)
+    turns = np.radians(np.linspace(-params["max_turn"], params["max_turn"], n_turns))
     extra = dict(motion=motion, step=params["step"], dt=params["dt"], max_turn=params["max_turn"],
-                 n_turns=params.get("n_turns", 7), moves=params.get("moves", 4), max_hits=max_hits,
+                 n_turns=n_turns, turns=tuple(float(t) for t in turns), moves=params.get("moves", 4), max_hits=max_hits,
                  initial_hit=None)
     if motion == "grid":
         extra["space"] = _grid_space(params)       # the places and moves (otto's grid)

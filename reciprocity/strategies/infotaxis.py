@@ -87,12 +87,12 @@ def walker_proposal(nominal: dict, pos: np.ndarray, heading: float, choose) -> t
 
 def turn_inward(nominal: dict, pos: np.ndarray, heading: float) -> float:
     """New heading (rad) of a walker at the edge of the area facing out: one largest turn
-    (``nominal["max_turn"]``, degrees) toward the middle of the area.
+    (the last of ``nominal["turns"]``, rad) toward the middle of the area.
 
     Parameters
     ----------
     nominal : dict
-        The plume world's nominal description (``bounds``, ``max_turn``).
+        The plume world's nominal description (``bounds``, ``turns``).
     pos : ndarray, shape (2,)
         Where the walker stands.
     heading : float
@@ -105,7 +105,7 @@ def turn_inward(nominal: dict, pos: np.ndarray, heading: float) -> float:
     (x0, x1), (y0, y1) = nominal["bounds"]
     want = np.arctan2((y0 + y1) / 2 - pos[1], (x0 + x1) / 2 - pos[0])
     diff = (want - heading + np.pi) % (2 * np.pi) - np.pi
-    return heading + np.sign(diff) * np.radians(nominal["max_turn"])
+    return heading + np.sign(diff) * nominal["turns"][-1]
 
 
 def candidate_moves(nominal: dict, position, heading: float):
@@ -120,8 +120,7 @@ def candidate_moves(nominal: dict, position, heading: float):
     p = np.asarray(position, dtype=float)
     step, motion = float(nominal["step"]), nominal["motion"]
     if motion == "turn":
-        turns = np.radians(np.linspace(-nominal["max_turn"], nominal["max_turn"], nominal["n_turns"]))
-        hd = heading + turns
+        hd = heading + np.asarray(nominal["turns"])
         pts = p + step * np.column_stack([np.cos(hd), np.sin(hd)])
     else:
         # otto's action order: -x, +x, -y, +y (then the diagonals)

@@ -87,8 +87,7 @@ def move_set(nominal: dict, positions: np.ndarray, headings: np.ndarray):
     h = np.asarray(headings, dtype=float).reshape(-1)
     step, motion = float(nominal["step"]), nominal["motion"]
     if motion == "turn":
-        turns = np.radians(np.linspace(-nominal["max_turn"], nominal["max_turn"], nominal["n_turns"]))
-        hd = h[:, None] + turns[None, :]
+        hd = h[:, None] + np.asarray(nominal["turns"])[None, :]
         pts = p[:, None, :] + step * np.stack([np.cos(hd), np.sin(hd)], axis=-1)
     else:
         dirs = [(-1, 0), (1, 0), (0, -1), (0, 1)]

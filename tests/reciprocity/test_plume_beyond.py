@@ -72,7 +72,7 @@ def test_depth_two_matches_explicit_enumeration_on_the_grid(cost):
 
 
 def test_move_set_keeps_the_order_of_candidate_moves_and_masks_the_outside():
-    nom = dict(load_scenario("song-100").build_world(0).nominal(), max_turn=30)
+    nom = load_scenario("song-100").with_world({"max_turn": 30}).build_world(0).nominal()
     pts, hds, inside = move_set(nom, np.array([[0.0, 0.0], [49.5, 0.0]]), np.array([0.0, 0.0]))
     ref, ref_h = candidate_moves(nom, [0.0, 0.0], 0.0)
     assert np.allclose(pts[0], ref) and np.allclose(hds[0], ref_h) and inside[0].all()
