@@ -29,11 +29,8 @@ it meets the reciprocity search on its home ground:
 Costs are counted as for the home strategy: ``n_measurements`` (one reading per step) and
 the path walked.
 
-Measured on ``paper``, 40 shared random (source, start) pairs (``benchmarks/plume_beyond.md``):
-90 % success (reciprocity: 92.5 % with ``rule="axis"``, 100 % with ``rule="info"``), median
-28 readings against 6–7, median path 115 cm against 199–212 cm. It walks less and reads
-far more; 3 runs end at the cap where every neighbouring reading predicts the same
-(far from the source, behind walls), one converges 5.5 cm off after 2 readings.
+Measured against the reciprocity search on ``paper`` (readings, path, success):
+``benchmarks/plume_beyond.md``, section 2.
 """
 
 from __future__ import annotations

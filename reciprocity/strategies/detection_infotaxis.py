@@ -20,8 +20,7 @@ model; the ``filament`` world gives 0/1 detections at 10 Hz and the local wind. 
   toward the uniform prior with time constant `memory` (s; ``None``, the default:
   never), so that a long run of misses while the meander (or the slowly varying wind
   field) had carried the plume elsewhere does not rule out its true source for good
-  (on 12 starts, memory 60 s and 120 s ended nearer the source but stopped less often:
-  4 and 5 successes against 5 without);
+  (measured in ``benchmarks/filament_search.md``);
 * each period the vehicle chooses among `n_headings` waypoints `lookahead` m away the
   one with the least expected entropy after its reading (Vergassola et al. 2007):
   ``(1 − P_f(v)) Σ_z ρ_z(v) S_z(v)``, ``P_f(v)`` the posterior mass within `found` m of
@@ -32,21 +31,16 @@ model; the ``filament`` world gives 0/1 detections at 10 Hz and the local wind. 
   that disc, and (optionally) only once `overshoot` periods without detection were read
   upwind of the estimate (1 to `2 radius` m upwind along the measured wind, within
   `radius` crosswind): the vehicle has passed the source and lost the odour. Off by
-  default: on 12 starts it turned 5 successes into 2 (overshoot 3), the vehicle
-  circling a correct estimate until the 300 s ran out. (Without the hit count and the
+  default: the vehicle then circles a correct estimate until the time runs out
+  (``benchmarks/filament_search.md``). (Without the hit count and the
   distance condition, trial runs stopped on a few detections of the plume's far end at
   the region's downwind edge. Runs still stop in the middle of a run of detections
   while the vehicle surges upwind 5–10 m short of the source: consecutive periods in
   the plume are correlated, and the model's near-source peak explains a run of them
   best.)
 
-Measured (``reproduce farrell-hmm``, 50 starts shared with ``hmm`` and ``surge-cast``):
-with ``wind_window=60`` 16 successes (32 %, 95 % interval 21–46 %), 16 wrong stops, 18
-runs that do not stop; with the default 20 s, 22 successes and 14 wrong stops. A main
-failure: the envelope is straight along the wind measured at the vehicle, while
-the filament world's plume curves with its large-scale wind modes; far downwind the
-vehicle climbs a curved plume and the straight model puts the source on the curve's
-tangent, 10–50 m off.
+Measured (success, wrong stops and the main failure, the curved plume):
+``benchmarks/filament_search.md``.
 
 Deviation from Vergassola et al.: their searcher only ends by reaching the source; ours
 declares an estimate (the ``filament`` world scores the estimate, 5 m), and moves to
@@ -100,10 +94,8 @@ class DetectionInfotaxis(_PlaneWalk):
     temper : float
         Exponent (0, 1] on each period's likelihood (correlated periods).
     wind_window : float
-        Time constant of the measured wind's running mean, s. On the 50 starts of
-        ``reproduce farrell-hmm``: 60 s gave 16 successes (16 wrong stops), 20 s 22
-        (14 wrong stops): the recent wind is the better guess of the direction the
-        odour came from in a plume that meanders and curves.
+        Time constant of the measured wind's running mean, s (the default 20 s against
+        60 s: ``benchmarks/filament_search.md``).
     memory : float or None
         Time constant of the relaxation of the log-posterior toward uniform, s.
     min_hits : int

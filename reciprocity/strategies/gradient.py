@@ -65,8 +65,8 @@ class GradientStrategy(Strategy):
     along the gradient does not help: so close to the source the three samples straddle
     it). **Deviation from the paper**: on the car, ``I_max`` is the sensor's saturation,
     reached only within about 2.5 cm of the source, which a car with a 15 cm turning
-    radius rarely hits; with ``I_max`` alone the search circled the saturated disk (73
-    samples on the demo against the paper's 18).
+    radius rarely hits; with ``I_max`` alone the search circles the saturated disk
+    (measured in ``benchmarks/reciprocity_rules.md``).
 
     A search that stalls also stops (``StopReason.CONVERGED``): when the last
     `stall_steps` gradient steps all start within `stall_radius` of their centroid (and,

@@ -63,8 +63,8 @@ class LatticeReciprocityStrategy(Strategy):
     rule : {"path", "path+mode", "infotaxis"}
         Next move. ``"path"`` (default): the admissible control minimising the
         posterior-expected shortest-path distance to the source (ties: the infotaxis
-        score); on 10 seeds of ``ristic-lattice`` with ``map: known`` it reached (0, 7) in
-        10/10 runs against 5/10 for ``"infotaxis"``. ``"path+mode"``: the same, but where
+        score; it reaches the source more often than ``"infotaxis"``, see
+        ``benchmarks/lattice_beyond.md``). ``"path+mode"``: the same, but where
         that rule would stay (the searcher is at the graph median of a spread posterior,
         where ``"path"`` can wait until the step cap), a step along the shortest path to
         the posterior's mode. ``"infotaxis"``: among the admissible controls, the one minimising the
@@ -112,31 +112,7 @@ class LatticeReciprocityStrategy(Strategy):
     * the expected-information rule moves the most probable searcher node by the control
       (no slip) to predict the next count.
 
-    Measured (``benchmarks/bench_lattice_beyond.py``; ``ristic-lattice`` with ``map: known``,
-    source (0, 7), A0 = 12, campaign seed 2014, the same lattice, start and noise seed
-    per seed index for every variant; success as for ``rbpf``: reached and self-localised;
-    Wilson 95 % intervals; steps over the successes with t intervals):
-
-    * map known, A0 unknown, ``rule="path"``: 94 % [88, 97] of 100, 34.6 [32.5, 36.8]
-      steps; A0 known: 99 % [95, 100], 34.0 [31.8, 36.1]; ``rule="path+mode"``: 99 %
-      [95, 100] both, 34.0 [32.4, 35.7] and 33.5 [31.6, 35.5] steps; ``rbpf`` (map
-      unknown, the paper's searcher) on the same draws: 25 % [18, 34], 62.0 [53.5, 70.6];
-    * map unknown (``map="rbpf"``), 60 runs: ``green="estimated"`` 48 % [36, 61] (reached
-      67 %), ``green="complete"`` 40 % [29, 53] (reached 50 %); paired, estimated vs
-      complete: 10 vs 5 discordant runs in success (exact McNemar p = 0.30), but 12 vs 2 in
-      reaching the source (p = 0.013): the map estimate in the Green's function gets the
-      searcher to the source more often, and the RBPF's self-localisation then fails in
-      11 of the 40 reaches (6 of 30 with the complete lattice); steps -3.8 [-13.2, 5.6]
-      where both succeeded; estimated vs ``rbpf``: 18 vs 4 (p = 0.0043), steps +1.4
-      [-15.6, 18.3] where both succeeded (11 runs); ``green="sampled"`` (16 maps drawn
-      from the RBPF, unseen links at 1 - p), 40 runs: 40 % [26, 55] success, 55 % reached,
-      no better than ``"estimated"`` (6 vs 8 discordant) at 3x the CPU;
-    * CPU per step (``time.process_time``, loaded machine): 7.3 ms with the map known;
-      32 ms with ``map="rbpf"`` (N = 4000, green refactorised every step), 29 ms with
-      ``green="complete"``; ``rbpf`` 8.7 ms;
-    * the model's p_e set to 0 while the truth slips at 0.04 (map known, 10 runs,
-      indicative): 5/10 reached against 10/10 with the right p_e: the position filter
-      matters once the model is wrong about the motion.
+    Measured success, steps and CPU per step of every variant: ``benchmarks/lattice_beyond.md``.
     """
 
     name = "lattice-reciprocity"

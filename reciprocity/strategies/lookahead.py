@@ -24,7 +24,7 @@ the searcher at ``r``, the found case scoring 0:
     entropy, which with its printed α, β is 10²–10⁴ times smaller than the potential
     (see :mod:`reciprocity.campaign.tables.song2019`). Unlike the particle entropy, the
     spread does not reset when the cloud is resampled. Defaults ``q = 3``, ``κ = 2``:
-    the best of the settings measured on ``song-100`` (below).
+    the best of the settings measured on ``song-100``.
 
 *How far ahead* (``depth``): ``1`` scores ``(1 − P_f(v)) Σ_z ρ_z(v) C(r_v, p_z)``;
 ``2`` replaces ``C(r_v, p_z)`` by the best score of the second move from ``r_v`` after
@@ -33,21 +33,8 @@ moves × outcomes × moves × outcomes × particles). Outcomes at the second lev
 Poisson counts summed up to ``second_kmax`` with the tail lumped into the last (otto's
 hit cap is used where the world has one).
 
-Measured (``benchmarks/plume_beyond.md``; paired, same seeds, 95 % intervals):
-
-- ``song-100`` with ±30° turns, 100 seeds: the default (``distance``, ``power=3``,
-  ``kappa=2``, depth 1) finds all 100 in 116.2 ± 4.2 steps; free-energy infotaxis
-  finds 99 in 118.2 (its one lost run makes the all-runs mean 137.1 ± 37.2, −15 % for
-  us), infotaxis 160.3 ± 4.0. On the runs both found the gain over free energy is
-  −2.0 ± 4.6 %: the aim of 10 % is not met in the paper's measure. ``power=2,
-  kappa=1``: 123.1 ± 16.5 (one slow run); depth 2: no gain for 10× the CPU.
-  A walker that knows the source needs 92 steps (``benchmarks/plume_phases.py``): free
-  energy is 26 above it, this rule 24; both walk the same path until the first hit, so
-  10 % fewer steps than free energy would mean removing 45 % of its excess.
-- ``otto-2d``: the distance cost dithers at the centre of the ring-shaped posterior
-  after otto's first hit (its power-mean centre is the start itself); depth-2 entropy
-  or space-aware costs are within noise of one-step infotaxis. There the best rule is
-  otto's own (``cost="space-aware"``, depth 1).
+Measured against free energy, infotaxis and a walker that knows the source, on ``song-100``
+and ``otto-2d``: ``benchmarks/plume_beyond.md``, section 1.
 """
 
 from __future__ import annotations

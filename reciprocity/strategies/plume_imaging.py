@@ -25,10 +25,8 @@ edit): an ``ImagingMap`` that accepts any column provider (``nodes``, ``h``,
 per-reading likelihood other than eq. (7) (Poisson counts), and a route from the chosen
 point to unit steps (a platform that walks the plan and reads on the way).
 
-Measured (``benchmarks/plume_beyond.md``, paired seeds): ``song-100`` (±30° turns, 100
-seeds) 133.0 ± 6.3 steps, all found (infotaxis 160.3 ± 4.0, free energy 118.2 over its
-99 found); ``otto-2d`` (1000 seeds) 32.4 ± 5.8 steps against infotaxis' 12.1 ± 0.75: the
-mass within reach of a ring-shaped posterior peaks where the searcher stands.
+Measured on ``song-100`` and ``otto-2d`` against the infotaxis family:
+``benchmarks/plume_beyond.md``, section 3.
 """
 
 from __future__ import annotations

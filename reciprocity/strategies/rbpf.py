@@ -66,30 +66,21 @@ class RBPFStrategy(Strategy):
         ``"gain"`` (default, the paper): the control of largest expected gain.
         ``"path"`` (beyond the paper, a longer horizon): the admissible control that
         minimises the expected shortest-path distance over the believed map to the source
-        particles (ties: the larger gain). Measured on 40 paired draws of source (0, 7),
-        A0 = 12 (``benchmarks/lattice_beyond_more.yaml``): 12 % [5, 26] success against
-        25 % [18, 34] for ``"gain"`` (3 vs 8 discordant, p = 0.23): no better. A longer
-        horizon cannot fix what limits this filter on random lattices: its source estimate
-        is biased by the eq. (25) model, which ignores the walls (traced runs: counts of
-        20-28 at (2, 3) pull the estimate there while the source sits at (0, 7) behind
-        missing links).
+        particles (ties: the larger gain). No better than ``"gain"``
+        (``benchmarks/lattice_beyond.md``).
 
     Notes
     -----
-    Deviations from the paper, each named here with what was measured:
+    Deviations from the paper (what each changes is measured in
+    ``benchmarks/lattice_beyond.md``):
 
-    * eq. (44) is integrated in closed form (the paper integrates numerically); it
-      agrees with quadrature to 1e-7 (tests);
+    * eq. (44) is integrated in closed form (the paper integrates numerically);
     * c of eq. (25) is held at its value at distance `min_distance` (0.5) closer to a
-      source (the paper does not say how it treats the singularity); 0.01 instead made
-      no difference beyond noise (source (2, -5): 5/12 vs 6/12 runs reached it);
+      source (the paper does not say how it treats the singularity);
     * a particle's failed or commanded move along a link it draws as missing
       (Bernoulli(q)) leaves it in place, as the true searcher does (eq. (45) is silent);
     * moves along links of probability exactly 1/2 are admissible, so the first move
-      (before any link was seen) is allowed; "stay" remains a control (``stay=False``
-      reached the source (0, 7) in 3/16 runs, as the default did).
-
-    Measured cost (N = 4000, M = 400): 8.8 ms CPU per step (propose + update).
+      (before any link was seen) is allowed; "stay" remains a control.
     """
 
     name = "rbpf"
