@@ -16,6 +16,7 @@ import numpy as np
 
 from arenas import as_points
 
+from .beliefs.base import Belief, Predictive, shannon_entropy
 from .errors import ReciprocityError
 from .fem.green import Field, GreenSolver
 from .fem.mesh import node_areas, triangle_areas
@@ -73,8 +74,9 @@ def superlevel_area(points: np.ndarray, triangles: np.ndarray, values: np.ndarra
     return float(np.sum(area * frac))
 
 
-class ImagingMap:
-    """Cumulative probability imaging function on a :class:`GreenSolver`'s mesh.
+class ImagingMap(Belief):
+    """Cumulative probability imaging function on a :class:`GreenSolver`'s mesh: a
+    :class:`~reciprocity.beliefs.Belief` over the mesh nodes.
 
     Parameters
     ----------
@@ -340,7 +342,6 @@ class ImagingMap:
 
     def entropy(self) -> float:
         """Shannon entropy (nats) of :meth:`weights`."""
-        from .beliefs.base import shannon_entropy
         return shannon_entropy(self.weights())
 
     def predictive(self, candidates):
@@ -350,7 +351,6 @@ class ImagingMap:
         ``c(x) G(y, x) = c(x) G(x, y)``: one back-substitution per candidate. The noise
         is the Gaussian whose likelihood is eq. (7): standard deviation ``sigma / sqrt 2``.
         """
-        from .beliefs.base import Predictive
         from .models.base import GaussianNoise
         pts = as_points(candidates, "candidates")
         g = self.solver.greens(pts)                       # (n_dofs, m)

@@ -25,8 +25,9 @@ class NoiseModel(ABC):
 
     def outcomes(self, means: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Representative outcomes and their log-probabilities for predictive sums:
-        ``(values (k,), logp (k, *means.shape))``. Discrete models enumerate counts;
-        continuous ones use Gauss-Hermite nodes (a quadrature, weights included)."""
+        ``(values (k,), logp (k, *means.shape))``. Discrete models enumerate counts; a
+        Gaussian reading has no finite set of outcomes shared by every mean (see
+        :meth:`reciprocity.beliefs.Predictive.expected_entropy`)."""
         raise NotImplementedError
 
 
@@ -48,12 +49,6 @@ class GaussianNoise(NoiseModel):
         if saturated:
             return log_ndtr(z)
         return -0.5 * z * z - np.log(self.sigma * np.sqrt(2 * np.pi))
-
-    def outcomes(self, means):
-        x, w = np.polynomial.hermite_e.hermegauss(12)
-        values = x * self.sigma  # offsets around each mean
-        logp = np.log(w / w.sum())[:, None] + np.zeros((1,) + np.shape(means))
-        return values, logp
 
 
 class PoissonNoise(NoiseModel):

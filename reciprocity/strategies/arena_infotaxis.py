@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..beliefs.base import gaussian_expected_entropy
 from ..errors import SearchError
 from ..validation import positive
 from ..intents import Measure
@@ -48,43 +49,8 @@ from .information import lattice_greens, systematic_support
 
 __all__ = ["ArenaInfotaxis", "gaussian_expected_entropy"]
 
-#: Gauss-Hermite nodes and weights for E[f(z)], z ~ N(m, s²): z = m + s·sqrt(2)·t.
-_GH_T, _GH_W = np.polynomial.hermite.hermgauss(3)
-_GH_W = _GH_W / np.sqrt(np.pi)
 #: Smallest reading noise (signal units), as the reciprocity search's MIN_NOISE.
 MIN_NOISE = 1.0
-
-
-def gaussian_expected_entropy(means: np.ndarray, logw: np.ndarray, support: np.ndarray,
-                              support_w: np.ndarray, sigma: float) -> np.ndarray:
-    """Expected entropy (nats) of a grid posterior after one Gaussian reading at each candidate.
-
-    Parameters
-    ----------
-    means : ndarray, shape (m, L)
-        Predicted reading at each of m candidates for each of L source nodes.
-    logw : ndarray, shape (L,)
-        Log posterior weights (normalised or not).
-    support : ndarray of int, shape (K,)
-        Source nodes standing for the predictive mixture (drawn from the posterior).
-    support_w : ndarray, shape (K,)
-        Their weights (sum 1).
-    sigma : float
-        Reading noise standard deviation (signal units).
-
-    Returns
-    -------
-    ndarray, shape (m,)
-        ``Σ_k w_k Σ_q ω_q H(posterior | z_kq)`` with ``z_kq = means[:, k] + sigma √2 t_q``.
-    """
-    z = means[:, support, None] + sigma * np.sqrt(2.0) * _GH_T[None, None, :]       # (m, K, Q)
-    r = (z[..., None] - means[:, None, None, :]) / sigma                              # (m, K, Q, L)
-    lp = logw[None, None, None, :] - 0.5 * r * r
-    lp -= lp.max(axis=-1, keepdims=True)
-    p = np.exp(lp)
-    p /= p.sum(axis=-1, keepdims=True)
-    H = -np.sum(p * np.log(np.maximum(p, 1e-300)), axis=-1)                            # (m, K, Q)
-    return np.einsum("mkq,k,q->m", H, support_w, _GH_W)
 
 
 @register

@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..beliefs.base import expected_entropy
 from ..errors import SearchError
 from ..validation import positive
 from ..models.detection import DetectionModel, WindEstimate
@@ -213,17 +214,12 @@ class DetectionInfotaxis(_PlaneWalk):
         w = self.weights()
         p = self.model.probability(self.cells, points, self.wind.mean, self.wind.spread) ** self.temper
         q = (1 - p) if self.temper == 1 else (1 - p ** (1 / self.temper)) ** self.temper
-        out = np.empty(len(points))
-        for k in range(len(points)):
-            s = 0.0
-            for lik in (p[k], q[k]):
-                j = w * lik
-                rho = j.sum()
-                if rho > 0:
-                    s += rho * entropy(j / rho)
-            near = np.hypot(*(self.cells - points[k]).T) <= self.found
-            out[k] = (1 - w[near].sum()) * s
-        return out
+        joint = np.stack([p, q]) * w                                 # (2 outcomes, K, cells)
+        # the tempered masses weigh the outcomes as they are (they sum to more than 1 when
+        # temper < 1); see benchmarks/filament_search.md
+        s = expected_entropy(joint, joint.sum(axis=-1))
+        near = np.hypot(*(self.cells[None, :, :] - points[:, None, :]).transpose(2, 0, 1)) <= self.found
+        return (1 - (near * w).sum(axis=1)) * s
 
     def _decide(self) -> None:
         cand = self.pos + self.lookahead * np.c_[np.cos(self.headings), np.sin(self.headings)]

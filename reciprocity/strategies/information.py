@@ -17,6 +17,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..beliefs.base import expected_entropy as _expected_entropy
 from ..fem.green import GreenSolver
 
 __all__ = ["lattice_nodes", "LatticeGreens", "lattice_greens", "expected_entropy",
@@ -156,8 +157,6 @@ def expected_entropy(means: np.ndarray, weights: np.ndarray, noise: float) -> np
     ndarray, shape (m,)
         Expected entropy, nats.
     """
-    diff = means[:, :, None] - means[:, None, :]                      # (m, j, i)
-    kernel = np.exp(-(diff * diff) / (4.0 * noise * noise)) * weights[None, None, :]
-    post = kernel / kernel.sum(axis=2, keepdims=True)
-    h = -np.sum(post * np.log(np.maximum(post, 1e-300)), axis=2)      # (m, j)
-    return h @ weights
+    diff = means.T[:, :, None] - means[None, :, :]                    # (j, m, i): outcome j
+    log_joint = np.log(np.maximum(weights, 1e-300))[None, None, :] - (diff * diff) / (4.0 * noise * noise)
+    return _expected_entropy(log_joint, weights[:, None], log=True)

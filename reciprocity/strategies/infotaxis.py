@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..beliefs.base import MIN_PARTICLES
+from ..beliefs.base import MIN_PARTICLES, posterior_entropies
 from ..beliefs.particles import ParticleBelief, grid_particles
 from ..errors import SearchError
 from ..validation import positive
@@ -149,30 +149,6 @@ def make_belief(nominal: dict, rng: np.random.Generator, *, particles: int, resa
     return ParticleBelief(nominal["plume"], pts, nominal["bounds"], rng, dt=nominal["dt"],
                           resample_below=resample_below, mcmc_steps=mcmc_steps,
                           found_radius=nominal["found_radius"], max_hits=nominal.get("max_hits"))
-
-
-def posterior_entropies(joint: np.ndarray):
-    """Outcome probabilities and posterior entropies (nats) of a joint table.
-
-    Parameters
-    ----------
-    joint : ndarray, shape (K+1, m, M)
-
-    Returns
-    -------
-    rho : ndarray, shape (K+1, m)
-        ``P(z | v)``, renormalised over the outcomes kept.
-    H : ndarray, shape (K+1, m)
-        Entropy of the posterior after outcome ``z`` at move ``v``.
-    P : ndarray, shape (K+1, m)
-        Unnormalised outcome masses (the posterior's denominators).
-    """
-    P = joint.sum(axis=2)
-    Ps = np.maximum(P, 1e-300)
-    jl = joint * np.log(np.where(joint > 0, joint, 1.0))
-    H = np.log(Ps) - jl.sum(axis=2) / Ps
-    rho = P / np.maximum(P.sum(axis=0, keepdims=True), 1e-300)
-    return rho, np.where(P > 0, H, 0.0), P
 
 
 class PlumeSearch(Strategy):

@@ -29,6 +29,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import shortest_path
 from scipy.special import gammaln, logsumexp
 
+from ..beliefs.base import expected_entropy
 from ..beliefs.rbpf import LOG_FLOOR, RBPFBelief
 from ..errors import SearchError
 from ..validation import positive
@@ -349,11 +350,7 @@ class LatticeReciprocityStrategy(Strategy):
         else:
             logp = (gammaln(a + ns) - gammaln(a) - gammaln(ns + 1) + a * np.log(b / (b + f))
                     + ns * np.log(f / (b + f)))
-        lj = logp + np.log(w)                                     # (counts, x)
-        lpn = logsumexp(lj, axis=1, keepdims=True)
-        lpost = lj - lpn
-        h = -np.sum(np.exp(lpost) * lpost, axis=1)
-        return (1.0 - p_found) * float(np.exp(lpn[:, 0]) @ h)
+        return (1.0 - p_found) * float(expected_entropy(logp + np.log(w), log=True))   # (counts, x)
 
     def propose(self):
         if self.done:

@@ -44,6 +44,7 @@ import numpy as np
 from ..errors import SearchError
 from ..validation import positive
 from ..models.plume import plume_rate
+from ..beliefs.base import posterior_entropies
 from ..beliefs.particles import outcome_table, _poisson_ppf
 from . import register
 from .infotaxis import PlumeSearch
@@ -145,8 +146,7 @@ class Lookahead(PlumeSearch):
         P = joint.sum(axis=-1)
         Ps = np.maximum(P, 1e-300)
         if self.cost in ("entropy", "space-aware"):
-            jl = joint * np.log(np.where(joint > 0, joint, 1.0))
-            H = np.log(Ps) - jl.sum(axis=-1) / Ps
+            H = posterior_entropies(joint)[1]         # 0 where P = 0, as _expected has it
             if self.cost == "entropy":
                 return H
             cell = float(self.nominal["step"])

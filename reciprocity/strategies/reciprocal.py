@@ -355,6 +355,11 @@ class ReciprocityStrategy(Strategy):
             if self.rule == "info" else None
         self._check_reachable()
 
+    @property
+    def belief(self) -> ImagingMap:
+        """The strategy's belief: its imaging map (a :class:`~reciprocity.beliefs.Belief`)."""
+        return self.imaging
+
     def _prior_range(self, ctx: SearchContext) -> tuple[float, float] | None:
         """The strength prior ``(lo, hi)`` for an unknown strength, or None to fit it."""
         if self.strength_range == "fit":
