@@ -5,7 +5,7 @@ Every front door (the command line, campaign workers, ``reproduce``) builds a
 """
 
 from ..seeds import EpisodeSeeds
-from .rollout import Agent, rollout
+from .rollout import Agent, Rollout, rollout
 from .search_env import SearchEnv
 
-__all__ = ["Agent", "EpisodeSeeds", "SearchEnv", "rollout"]
+__all__ = ["Agent", "EpisodeSeeds", "Rollout", "SearchEnv", "rollout"]

@@ -11,7 +11,7 @@ from ..outcome import StopReason
 from ..task import Percept, Report, Task
 from .search_env import SearchEnv, intents_of
 
-__all__ = ["Agent", "rollout"]
+__all__ = ["Agent", "Rollout", "rollout"]
 
 
 class Agent(Protocol):
@@ -37,6 +37,67 @@ class Agent(Protocol):
 
     def report(self) -> Report:
         """The final declaration."""
+
+
+class Rollout:
+    """One episode being driven: the loop of :func:`rollout` taken apart, so that a driver
+    that receives its actions from outside (the Gymnasium and PettingZoo adapters) runs the
+    very same steps.
+
+    Parameters
+    ----------
+    env : SearchEnv
+        The environment (the truth).
+    agent : Agent
+        Receives the task, the percepts and the stop; declares the report.
+    progress : callable, optional
+        Called with each :class:`~reciprocity.episode.StepRecord`.
+    """
+
+    def __init__(self, env: SearchEnv, agent: Agent, *, progress=None):
+        self.env, self.agent, self.progress = env, agent, progress
+        self.records: list[StepRecord] = []
+        self.task: Task | None = None
+
+    def start(self, seed: int, options: dict | None = None, *, reset_agent: bool = True) -> Task:
+        """Reset the environment with `seed` and (unless told not to) hand the agent its
+        task and its own random stream; return the task."""
+        _, info = self.env.reset(seed=seed, options=options)
+        self.task, self.agent_seed = info["task"], info["agent_seed"]
+        self.records = []
+        if reset_agent:
+            self.agent.reset(self.task, self.agent_seed)
+        return self.task
+
+    def advance(self, action) -> bool:
+        """Carry out `action` (None: the agent proposes nothing more); True while the
+        episode goes on. When the round budget is already spent, the agent is stopped
+        (``STEP_CAP``) instead."""
+        env, agent = self.env, self.agent
+        if agent.done or action is None:
+            return False
+        if env.budget_spent:
+            agent.stop(StopReason.STEP_CAP, f"{env.max_steps} steps")
+            return False
+        intents = intents_of(action, env.n_agents)
+        percepts, _, terminated, _, step_info = env.step(action)
+        for percept, log in zip(percepts, step_info["records"]):
+            intent = intents[percept.agent]
+            agent.observe(percept, intent)
+            self.records.append(_record(len(self.records) + 1, percept, intent, log, agent.status()))
+            if self.progress is not None and percept.unreachable is None:
+                self.progress(self.records[-1])
+        if terminated and not agent.done:
+            agent.stop(StopReason.FOUND, f"observer {step_info['found_by']} reached the source")
+        return not agent.done
+
+    def finish(self) -> Episode:
+        """The agent's report, judged by the environment."""
+        report = self.agent.report()
+        if report is None or report.stop is None:
+            self.agent.stop(StopReason.GAVE_UP, "the strategy proposed nothing more")
+            report = self.agent.report()
+        return Episode(self.env.judge(report), self.records, report.messages)
 
 
 def rollout(env: SearchEnv, agent: Agent, seed: int, *, progress=None, options: dict | None = None) -> Episode:
@@ -65,31 +126,11 @@ def rollout(env: SearchEnv, agent: Agent, seed: int, *, progress=None, options: 
     Episode
         The summary (judged by the environment), the trace and the messages.
     """
-    _, info = env.reset(seed=seed, options=options)
-    agent.reset(info["task"], info["agent_seed"])
-    records: list[StepRecord] = []
-    while not agent.done:
-        action = agent.act()
-        if action is None:
-            break
-        if env.budget_spent:
-            agent.stop(StopReason.STEP_CAP, f"{env.max_steps} steps")
-            break
-        intents = intents_of(action, env.n_agents)
-        percepts, _, terminated, _, step_info = env.step(action)
-        for percept, log in zip(percepts, step_info["records"]):
-            intent = intents[percept.agent]
-            agent.observe(percept, intent)
-            records.append(_record(len(records) + 1, percept, intent, log, agent.status()))
-            if progress is not None and percept.unreachable is None:
-                progress(records[-1])
-        if terminated and not agent.done:
-            agent.stop(StopReason.FOUND, f"observer {step_info['found_by']} reached the source")
-    report = agent.report()
-    if report is None or report.stop is None:
-        agent.stop(StopReason.GAVE_UP, "the strategy proposed nothing more")
-        report = agent.report()
-    return Episode(env.judge(report), records, report.messages)
+    run = Rollout(env, agent, progress=progress)
+    run.start(seed, options)
+    while not agent.done and run.advance(agent.act()):
+        pass
+    return run.finish()
 
 
 def _record(step: int, percept: Percept, intent, log: dict, status) -> StepRecord:

@@ -41,6 +41,7 @@ import numpy as np
 
 from ..beliefs.base import MIN_PARTICLES, posterior_entropies
 from ..beliefs.particles import ParticleBelief, grid_particles
+from ..spaces.walker import candidate_moves, turn_inward
 from ..errors import SearchError
 from ..validation import positive
 from ..intents import Move, Stay
@@ -83,56 +84,6 @@ def walker_proposal(nominal: dict, pos: np.ndarray, heading: float, choose) -> t
         return Stay(pos), turn_inward(nominal, pos, heading)
     k = int(choose(cands))
     return Move(cands[k]), float(hds[k])
-
-
-def turn_inward(nominal: dict, pos: np.ndarray, heading: float) -> float:
-    """New heading (rad) of a walker at the edge of the area facing out: one largest turn
-    (the last of ``nominal["turns"]``, rad) toward the middle of the area.
-
-    Parameters
-    ----------
-    nominal : dict
-        The plume world's nominal description (``bounds``, ``turns``).
-    pos : ndarray, shape (2,)
-        Where the walker stands.
-    heading : float
-        Its heading, rad.
-
-    Returns
-    -------
-    float
-    """
-    (x0, x1), (y0, y1) = nominal["bounds"]
-    want = np.arctan2((y0 + y1) / 2 - pos[1], (x0 + x1) / 2 - pos[0])
-    diff = (want - heading + np.pi) % (2 * np.pi) - np.pi
-    return heading + np.sign(diff) * nominal["turns"][-1]
-
-
-def candidate_moves(nominal: dict, position, heading: float):
-    """Admissible next places and headings from `position`, in the order moves are tried.
-
-    Returns
-    -------
-    points : ndarray, shape (m, 2)
-    headings : ndarray, shape (m,)
-        Heading (rad) after each move.
-    """
-    p = np.asarray(position, dtype=float)
-    step, motion = float(nominal["step"]), nominal["motion"]
-    if motion == "turn":
-        hd = heading + np.asarray(nominal["turns"])
-        pts = p + step * np.column_stack([np.cos(hd), np.sin(hd)])
-    else:
-        # otto's action order: -x, +x, -y, +y (then the diagonals)
-        dirs = [(-1, 0), (1, 0), (0, -1), (0, 1)]
-        if motion == "reach" or nominal.get("moves", 4) == 8:
-            dirs += [(-1, -1), (1, -1), (-1, 1), (1, 1)]
-        d = np.array(dirs, dtype=float)
-        pts = p + step * d
-        hd = np.arctan2(d[:, 1], d[:, 0])
-    (x0, x1), (y0, y1) = nominal["bounds"]
-    inside = (pts[:, 0] >= x0) & (pts[:, 0] <= x1) & (pts[:, 1] >= y0) & (pts[:, 1] <= y1)
-    return pts[inside], hd[inside]
 
 
 def make_belief(nominal: dict, rng: np.random.Generator, *, particles: int, resample_below: float | None,
