@@ -166,6 +166,19 @@ class Scenario:
         return Scenario(self.name, self.world, params, self.platform, starts,
                         self.success_radius, self.max_steps, self.agents, self.description)
 
+    def with_limits(self, *, max_steps=None, success_radius=None) -> "Scenario":
+        """A copy with the scenario's round budget and success radius replaced (None: kept),
+        bounded as in scenario files."""
+        from dataclasses import replace
+        pre = f"scenario {self.name!r}: "
+        out = self
+        if max_steps is not None:
+            out = replace(out, max_steps=whole(max_steps, "max_steps", 1, MAX_STEPS, where=pre))
+        if success_radius is not None:
+            out = replace(out, success_radius=number(success_radius, "success_radius", 0.0, MAX_COORD, where=pre,
+                                                     lo_open=True))
+        return out
+
     def build_world(self, seed: int):
         """The world of an episode with seed `seed` (its random parts drawn from it)."""
         seeds = EpisodeSeeds.from_seed(seed, 0)

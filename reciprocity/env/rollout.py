@@ -58,6 +58,8 @@ class Rollout:
         self.env, self.agent, self.progress = env, agent, progress
         self.records: list[StepRecord] = []
         self.task: Task | None = None
+        #: The percepts of the last round with their intents, ``[(Percept, Intent), ...]``.
+        self.last: list = []
 
     def start(self, seed: int, options: dict | None = None, *, reset_agent: bool = True) -> Task:
         """Reset the environment with `seed` and (unless told not to) hand the agent its
@@ -74,6 +76,7 @@ class Rollout:
         episode goes on. When the round budget is already spent, the agent is stopped
         (``STEP_CAP``) instead."""
         env, agent = self.env, self.agent
+        self.last = []
         if agent.done or action is None:
             return False
         if env.budget_spent:
@@ -81,6 +84,7 @@ class Rollout:
             return False
         intents = intents_of(action, env.n_agents)
         percepts, _, terminated, _, step_info = env.step(action)
+        self.last = [(p, intents[p.agent]) for p in percepts]
         for percept, log in zip(percepts, step_info["records"]):
             intent = intents[percept.agent]
             agent.observe(percept, intent)

@@ -211,8 +211,16 @@ class RBPFStrategy(Strategy):
         return int(ks[int(np.argmin(score))])
 
     # -- update -----------------------------------------------------------------------
+    def _control_of(self, intent) -> int:
+        """The control `intent` stands for (what :meth:`propose` chose, or what another
+        driver commanded): its offset from the reported pose among :data:`CONTROLS`."""
+        u = np.rint(np.asarray(intent.point, dtype=float) - self.pose).astype(int)
+        k = np.flatnonzero(np.all(CONTROLS == u, axis=1))
+        return int(k[0]) if k.size and not isinstance(intent, Stay) else 0
+
     def observe(self, observations, intent, agent: int = 0) -> None:
         b = self.belief
+        self.control = self._control_of(intent)
         for o in observations:
             b.predict(self.control)
             b.update(o)

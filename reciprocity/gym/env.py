@@ -1,0 +1,199 @@
+"""A search as a Gymnasium environment: :class:`SearchGymEnv`, a thin face over
+:class:`~reciprocity.env.SearchEnv` driven by :class:`~reciprocity.env.Rollout`.
+
+The environment behind the face is the same one every front door uses; the face only
+translates actions into intents and percepts into observations, so an episode driven
+here is the episode ``reciprocity run`` drives with the same seed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import gymnasium
+
+from ..env import Rollout, SearchEnv
+from ..errors import SearchError
+from ..intents import Intent
+from ..observations import MessageLog
+from ..outcome import Stop, StopReason
+from ..scenarios import load_scenario
+from ..strategies.base import Status
+from ..task import Report, Task
+from .faces import STOP, face_for
+
+__all__ = ["SearchGymEnv", "DeclaringAgent", "SUCCESS_REWARD"]
+
+#: Reward added at the end of a successful episode (every round costs 1).
+SUCCESS_REWARD = 100.0
+
+
+class DeclaringAgent:
+    """The environment's stand-in for an outside policy in :class:`~reciprocity.env.Rollout`:
+    it counts the readings and declares what the policy's stop action says (its estimate,
+    or else where the observer stands).
+
+    Parameters
+    ----------
+    name : str
+        The name the episode summary gives the policy.
+    """
+
+    def __init__(self, name: str = "gym-policy"):
+        self.name = name
+        self.done = True
+
+    def reset(self, task: Task, seed) -> None:
+        self.task, self.done, self.estimate, self.outcome = task, False, None, None
+        self.n_readings, self.position = 0, np.array(task.starts[0][:2], dtype=float)
+        self.messages = MessageLog()
+
+    def act(self):
+        return ()                                   # the policy's action comes from outside
+
+    def declare(self, estimate) -> None:
+        """The policy stops and declares `estimate`."""
+        self.estimate = np.asarray(estimate, dtype=float)
+        self.stop(StopReason.CONVERGED, "the policy stopped")
+
+    def observe(self, percept, intent) -> None:
+        if percept.unreachable is None and percept.observations:
+            self.n_readings += len(percept.observations)
+            self.position = np.asarray(percept.observations[-1].position, dtype=float)
+
+    def status(self) -> Status:
+        return Status(self.estimate)
+
+    def stop(self, reason: StopReason, detail: str) -> None:
+        if self.outcome is None:
+            self.outcome, self.done = Stop(reason, detail), True
+
+    def report(self) -> Report | None:
+        if self.outcome is None:
+            return None
+        est = self.estimate if self.estimate is not None else self.position
+        return Report(strategy=self.name, estimate=est, stop=self.outcome, n_measurements=self.n_readings,
+                      n_samples=self.n_readings, messages=self.messages, agents=None)
+
+
+class SearchGymEnv(gymnasium.Env):
+    """One scenario as a Gymnasium environment (one observer; several: the PettingZoo face).
+
+    Parameters
+    ----------
+    scenario : str, Scenario or arenas.Arena
+        A built-in scenario name or a YAML path (scenario or plain arena file).
+    platform : str, optional
+        The platform (default: the scenario's; ``"car"`` for the car on an arena).
+    render_mode : {"rgb_array"}, optional
+    success_reward : float
+        Added to the last reward when the episode succeeds (every round costs 1).
+    platform_options : dict, optional
+        Options of the platform (the car's).
+    **world
+        The scenario's keys: its world's (``source``, ``strength``, ``noise``,
+        ``mismatch``, ``start`` with the heading in radians, ...), ``max_steps`` and
+        ``success_radius``.
+
+    Notes
+    -----
+    ``reset(seed=s)`` starts the episode that ``reciprocity run ... --seed s`` starts.
+    The observation is a Dict (``position``, ``reading``, ``time`` and the world's own
+    keys); the action is the face's (see :mod:`reciprocity.gym.faces`). The reward is -1
+    per round, plus `success_reward` at the end of a successful episode. ``terminated``
+    when the search ends by itself (the source reached, or the policy's stop action);
+    ``truncated`` when the scenario's round budget is spent. The last ``info`` holds
+    every key of the episode summary (``success``, ``error``, ``n_measurements``, ...)
+    and ``summary`` itself.
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
+
+    def __init__(self, scenario="paper", *, platform: str | None = None, render_mode: str | None = None,
+                 success_reward: float = SUCCESS_REWARD, platform_options: dict | None = None, **world):
+        if render_mode not in (None, "rgb_array"):
+            raise SearchError(f"render_mode must be 'rgb_array' or None; got {render_mode!r}")
+        sc = load_scenario(scenario) if not hasattr(scenario, "kind") else scenario
+        sc = sc.with_limits(max_steps=world.pop("max_steps", None), success_radius=world.pop("success_radius", None))
+        self.search = SearchEnv(sc, platform=platform, world=world or None, platform_options=platform_options)
+        if self.search.n_agents != 1:
+            raise SearchError(f"scenario {sc.name!r} has {self.search.n_agents} observers: use "
+                              "reciprocity.pettingzoo.parallel_env for several")
+        self.render_mode = render_mode
+        self.success_reward = float(success_reward)
+        nominal = self.search.scenario.build_world(0).nominal()         # public: the spaces
+        self.face = face_for(self.search.scenario.world, self.search.platform_name, nominal)
+        self.action_space = self.face.action_space()
+        self.observation_space = self.face.observation_space()
+        self._own = DeclaringAgent()
+        self.agent = self._own
+        self.run: Rollout | None = None
+        self.summary: dict | None = None
+        self.last_percepts: list = []
+
+    # -- policies that bring their own agent --------------------------------------------------
+    def attach(self, agent) -> None:
+        """Let `agent` (an :class:`~reciprocity.env.Agent`, e.g. the one of
+        :class:`~reciprocity.gym.StrategyPolicy`) receive the percepts and declare the
+        report; the policy resets it after each :meth:`reset`."""
+        self.agent = agent
+
+    @property
+    def task(self) -> Task:
+        """The public task of the current episode."""
+        if self.run is None:
+            raise SearchError("call reset() first")
+        return self.run.task
+
+    @property
+    def agent_seed(self) -> np.random.SeedSequence:
+        """The agent's own random stream of the current episode (derived from its seed)."""
+        return self.run.agent_seed
+
+    # -- Gymnasium --------------------------------------------------------------------------------
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        if seed is None:
+            seed = int(self.np_random.integers(0, 2**62))
+        self.episode_seed = int(seed)
+        self.run = Rollout(self.search, self.agent)
+        task = self.run.start(self.episode_seed, options, reset_agent=self.agent is self._own)
+        self.summary, self.last_percepts = None, []
+        obs = self.face.reset(task.starts[0])
+        return obs, {"task": task}
+
+    def step(self, action):
+        if self.run is None:
+            raise SearchError("call reset() before step()")
+        if self.summary is not None:
+            raise SearchError("the episode is over; call reset()")
+        intent = action if isinstance(action, Intent) else self.face.intent(action)
+        if isinstance(intent, tuple) and intent[0] == STOP:
+            if self.agent is self._own:
+                self._own.declare(intent[1])
+            going = self.run.advance(None)
+        else:
+            going = self.run.advance(intent)
+            self.last_percepts = list(self.run.last)
+            self.face.moved(intent)
+            for percept, done in self.last_percepts:
+                self.face.observe(percept, done)
+            if going and self.search.budget_spent:
+                going = self.run.advance(self.agent.act())     # as rollout: the agent's last word
+        obs = self.face.observation()
+        if going:
+            return obs, -1.0, False, False, {}
+        episode = self.run.finish()
+        self.summary = episode.summary
+        reward = -1.0 + (self.success_reward if self.summary.get("success") else 0.0)
+        truncated = str(self.summary.get("stop_reason", "")).startswith(StopReason.STEP_CAP.value)
+        info = dict(self.summary)
+        info["summary"] = self.summary
+        info["episode"] = episode
+        return obs, reward, not truncated, truncated, info
+
+    def render(self):
+        if self.render_mode != "rgb_array":
+            return None
+        from .render import frame
+        return frame(self)
+

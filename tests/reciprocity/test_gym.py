@@ -1,0 +1,139 @@
+"""The Gymnasium faces: every id passes check_env, renders, and with StrategyPolicy runs the
+very episode `reciprocity run` runs."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+gymnasium = pytest.importorskip("gymnasium")
+from gymnasium.utils.env_checker import check_env  # noqa: E402
+
+import reciprocity.gym as rg  # noqa: E402
+from reciprocity.api import execute  # noqa: E402
+from reciprocity.errors import SearchError  # noqa: E402
+
+#: Cheap parameters of the lattice's RBPF (the equivalence does not depend on them).
+RBPF = {"n_particles": 500, "n_gain": 50}
+
+
+def drive(env, policy, seed):
+    obs, info = env.reset(seed=seed)
+    assert set(info) == {"task"}                 # nothing of the truth at reset
+    policy.reset(seed)
+    terminated = truncated = False
+    steps = 0
+    while not (terminated or truncated):
+        obs, reward, terminated, truncated, info = env.step(policy(obs))
+        assert env.observation_space.contains(obs)
+        steps += 1
+    return info, steps
+
+
+def same_summary(a: dict, b: dict) -> list:
+    return sorted(k for k in set(a) | set(b) if k != "wall_time_s" and a.get(k) != b.get(k))
+
+
+@pytest.mark.parametrize("env_id", sorted(rg.IDS))
+def test_check_env_passes(env_id):
+    env = gymnasium.make(env_id)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")          # unbounded readings and cm-sized boxes are warned about
+        check_env(env.unwrapped)
+
+
+@pytest.mark.parametrize("env_id, scenario, strategy, params, world", [
+    ("reciprocity/Poisson-v0", "paper", "reciprocity", {}, {}),
+    ("reciprocity/Plume-v0", "otto-2d", "infotaxis", {}, {}),
+    ("reciprocity/Plume-v0", "song-100", "infotaxis", {}, {"max_turn": 30}),
+    ("reciprocity/Lattice-v0", "ristic-lattice", "rbpf", RBPF, {}),
+])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_strategy_policy_runs_the_cli_episode(env_id, scenario, strategy, params, world, seed):
+    """The same seed gives the same summary (estimate, readings, every key but the wall
+    time) through Gymnasium as through `reciprocity run`."""
+    env = gymnasium.make(env_id, scenario=scenario, **world)
+    info, steps = drive(env, rg.StrategyPolicy(strategy, env, **params), seed)
+    episode, _, _ = execute(scenario, strategy, seed=seed, params=params, world=world or None)
+    assert same_summary(info["summary"], episode.summary) == []
+    assert info["n_measurements"] == episode.summary["n_measurements"]
+    assert {"success", "error", "estimate", "steps", "stop_reason"} <= set(info)
+
+
+def test_the_car_runs_the_cli_episode():
+    env = gymnasium.make("reciprocity/PoissonCar-v0")
+    info, _ = drive(env, rg.StrategyPolicy("reciprocity", env), 0)
+    episode, _, _ = execute("paper", "reciprocity", seed=0, platform="car")
+    assert same_summary(info["summary"], episode.summary) == []
+
+
+@pytest.mark.parametrize("env_id, strategy, params", [
+    ("reciprocity/Poisson-v0", "reciprocity", {}), ("reciprocity/Plume-v0", "infotaxis", {}),
+    ("reciprocity/Lattice-v0", "rbpf", RBPF), ("reciprocity/Filament-v0", "detection-infotaxis", {})])
+def test_rgb_frames_and_the_belief_image(env_id, strategy, params):
+    env = rg.BeliefImage(gymnasium.make(env_id, render_mode="rgb_array"), size=24)
+    policy = rg.StrategyPolicy(strategy, env, **params)
+    obs, _ = env.reset(seed=3)
+    policy.reset(3)
+    for _ in range(3):
+        obs, _, terminated, truncated, _ = env.step(policy(obs))
+        if terminated or truncated:
+            break
+    frame = env.render()
+    assert frame.dtype == np.uint8 and frame.shape[2] == 3 and frame.std() > 0
+    assert env.observation_space.contains(obs) and obs.shape == (2, 24, 24)
+    assert obs[1].sum() == 1.0                   # the observer's pixel
+    assert obs[0].max() == pytest.approx(1.0)    # the belief, scaled to its peak
+
+
+def test_frames_and_first_actions_do_not_depend_on_the_true_source():
+    """What the policy and a viewer get before the first reading is the same wherever the
+    source is: the truth stays behind the face."""
+    outs = []
+    for source in ([70.21, 70.21], [110.0, 110.0]):
+        env = gymnasium.make("reciprocity/Poisson-v0", render_mode="rgb_array", source=source)
+        policy = rg.StrategyPolicy("reciprocity", env, h=4.0)
+        obs, info = env.reset(seed=5)
+        policy.reset(5)
+        outs.append((env.render(), policy(obs), obs["position"]))
+    assert np.array_equal(outs[0][0], outs[1][0])
+    assert np.array_equal(outs[0][1], outs[1][1]) and np.array_equal(outs[0][2], outs[1][2])
+
+
+def test_an_outside_policy_declares_its_estimate_by_stopping():
+    env = gymnasium.make("reciprocity/Poisson-v0", source=[70.0, 70.0])
+    obs, _ = env.reset(seed=0)
+    obs, reward, terminated, truncated, info = env.step(np.array([30.0, 30.0, 0.0]))
+    assert not (terminated or truncated) and reward == -1.0 and obs["reading"][0] != 0.0
+    obs, reward, terminated, truncated, info = env.step(np.array([71.0, 70.0, 1.0]))
+    assert terminated and not truncated and info["success"] and info["n_measurements"] == 1
+    assert info["estimate"] == [71.0, 70.0] and reward == -1.0 + rg.SUCCESS_REWARD
+    with pytest.raises(SearchError, match="episode is over"):
+        env.step(np.array([1.0, 1.0, 0.0]))
+
+
+def test_a_plume_walker_is_truncated_at_the_budget():
+    env = gymnasium.make("reciprocity/Plume-v0", scenario="otto-2d", max_steps=4)
+    env.reset(seed=0)
+    stay = env.unwrapped.face.n
+    out = [env.step(stay) for _ in range(4)]
+    assert [o[3] for o in out] == [False, False, False, True] and not out[-1][2]
+    assert out[-1][4]["stop_reason"].startswith("step cap")
+
+
+def test_bad_arguments_fail_cleanly():
+    with pytest.raises(SearchError, match="render_mode"):
+        rg.SearchGymEnv("otto-2d", render_mode="human")     # (gymnasium.make wraps 'human' itself)
+    with pytest.raises(SearchError, match="max_steps"):
+        gymnasium.make("reciprocity/Plume-v0", max_steps=0)
+    with pytest.raises(SearchError, match="pettingzoo"):
+        gymnasium.make("reciprocity/Plume-v0", scenario="hajieghrary")
+    env = gymnasium.make("reciprocity/Plume-v0")
+    with pytest.raises(SearchError, match="unknown strategy"):
+        rg.StrategyPolicy("nope", env)
+    policy = rg.StrategyPolicy("infotaxis", env)
+    env.reset(seed=1)
+    with pytest.raises(SearchError, match="seed 1, not 2"):
+        policy.reset(2)
+    with pytest.raises(SearchError, match="size"):
+        rg.BeliefImage(env, size=4)

@@ -1,0 +1,41 @@
+"""The PettingZoo face: the parallel API holds, and the VoI team runs the CLI's episodes."""
+
+import pytest
+
+pytest.importorskip("pettingzoo")
+from pettingzoo.test import parallel_api_test  # noqa: E402
+
+from reciprocity.api import execute  # noqa: E402
+from reciprocity.pettingzoo import TeamPolicy, parallel_env  # noqa: E402
+
+
+@pytest.mark.parametrize("scenario, agents", [("hajieghrary", None), ("song-100", 2), ("ristic-lattice", 2),
+                                              ("paper", 2)])
+def test_parallel_api(scenario, agents):
+    parallel_api_test(parallel_env(scenario, agents=agents), num_cycles=100)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_voi_team_runs_the_cli_episode(seed):
+    env = parallel_env("hajieghrary")
+    policy = TeamPolicy("voi", env)
+    observations, infos = env.reset(seed=seed)
+    policy.reset(seed)
+    while env.agents:
+        actions = policy(observations)
+        assert set(actions) == set(env.agents)
+        observations, rewards, terminations, truncations, infos = env.step(actions)
+    summary = infos["observer_0"]["summary"]
+    episode, _, _ = execute("hajieghrary", "voi", seed=seed)
+    assert sorted(k for k in set(summary) | set(episode.summary)
+                  if k != "wall_time_s" and summary.get(k) != episode.summary.get(k)) == []
+    assert summary["messages"] == episode.summary["messages"] and summary["n_agents"] == 3
+
+
+def test_every_observer_stopping_ends_the_episode():
+    env = parallel_env("hajieghrary")
+    env.reset(seed=0)
+    stop = {a: env.faces[k].stop_action() for k, a in enumerate(env.possible_agents)}
+    _, rewards, terminations, truncations, infos = env.step(stop)
+    assert all(terminations.values()) and not any(truncations.values()) and env.agents == []
+    assert infos["observer_1"]["stop_reason"].startswith("converged")
