@@ -49,3 +49,22 @@ def test_lattice_figures(tmp_path, pixels_near):
     for name in ("lattice.png", "search.png"):
         assert pixels_near(tmp_path / name, (255, 0, 0), 60) > 20           # the true source's star
     assert pixels_near(tmp_path / "search.png", (255, 127, 14), 50) > 200   # the source particle cloud
+
+
+def test_ppo_plume_environment_and_evaluation():
+    """The PPO example's environment and evaluation (the training itself needs PyTorch)."""
+    mod = load("ppo_plume")
+    env = mod.make_env()
+    obs, _ = env.reset(seed=0)
+    assert obs.shape == (2, 19, 19) and env.action_space.n == 6
+    steps, rate = mod.evaluate(None, [0, 1, 2], strategy="infotaxis")
+    walk_steps, _ = mod.evaluate(mod.random_walk(0), [0, 1, 2])
+    assert rate == 1.0 and steps < walk_steps <= mod.MAX_STEPS
+
+
+def test_ppo_plume_trains_when_stable_baselines3_is_installed(tmp_path):
+    import pytest
+    pytest.importorskip("stable_baselines3")
+    rows = load("ppo_plume").main(["--timesteps", "512", "--eval-every", "512", "--eval-seeds", "3",
+                                   "--out", str(tmp_path)])
+    assert len(rows) == 2 and (tmp_path / "learning_curve.png").exists()

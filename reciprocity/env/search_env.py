@@ -180,6 +180,11 @@ class SearchEnv:
         return percepts, -1.0, terminated, truncated, {"records": records, "found_by": self._found_by}
 
     @property
+    def rounds(self) -> int:
+        """Rounds carried out so far in this episode."""
+        return self._rounds
+
+    @property
     def budget_spent(self) -> bool:
         """The round budget is spent (no further step is allowed)."""
         return self.max_steps is not None and self._rounds >= self.max_steps

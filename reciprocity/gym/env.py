@@ -21,10 +21,21 @@ from ..strategies.base import Status
 from ..task import Report, Task
 from .faces import STOP, face_for
 
-__all__ = ["SearchGymEnv", "DeclaringAgent", "SUCCESS_REWARD"]
+__all__ = ["SearchGymEnv", "DeclaringAgent", "SUCCESS_REWARD", "end_reward"]
 
 #: Reward added at the end of a successful episode (every round costs 1).
 SUCCESS_REWARD = 100.0
+
+
+def end_reward(summary: dict, search: SearchEnv, success_reward: float) -> float:
+    """What the last round adds to its -1: `success_reward` on success; on failure, -1 for
+    every round of the budget left, so that giving up early never pays better than
+    searching to the end."""
+    if summary.get("success"):
+        return success_reward
+    if search.max_steps is None:
+        return 0.0
+    return -float(max(search.max_steps - search.rounds, 0))
 
 
 class DeclaringAgent:
@@ -99,7 +110,8 @@ class SearchGymEnv(gymnasium.Env):
     ``reset(seed=s)`` starts the episode that ``reciprocity run ... --seed s`` starts.
     The observation is a Dict (``position``, ``reading``, ``time`` and the world's own
     keys); the action is the face's (see :mod:`reciprocity.gym.faces`). The reward is -1
-    per round, plus `success_reward` at the end of a successful episode. ``terminated``
+    per round, plus `success_reward` at the end of a successful episode; a failed episode
+    also pays -1 for each round of the budget left (see :func:`end_reward`). ``terminated``
     when the search ends by itself (the source reached, or the policy's stop action);
     ``truncated`` when the scenario's round budget is spent. The last ``info`` holds
     every key of the episode summary (``success``, ``error``, ``n_measurements``, ...)
@@ -167,6 +179,7 @@ class SearchGymEnv(gymnasium.Env):
         if self.summary is not None:
             raise SearchError("the episode is over; call reset()")
         intent = action if isinstance(action, Intent) else self.face.intent(action)
+        rounds = self.search.rounds
         if isinstance(intent, tuple) and intent[0] == STOP:
             if self.agent is self._own:
                 self._own.declare(intent[1])
@@ -181,10 +194,11 @@ class SearchGymEnv(gymnasium.Env):
                 going = self.run.advance(self.agent.act())     # as rollout: the agent's last word
         obs = self.face.observation()
         if going:
-            return obs, -1.0, False, False, {}
+            return obs, -float(self.search.rounds - rounds), False, False, {}
         episode = self.run.finish()
         self.summary = episode.summary
-        reward = -1.0 + (self.success_reward if self.summary.get("success") else 0.0)
+        spent = -float(self.search.rounds - rounds)                    # -1 per round carried out
+        reward = spent + end_reward(self.summary, self.search, self.success_reward)
         truncated = str(self.summary.get("stop_reason", "")).startswith(StopReason.STEP_CAP.value)
         info = dict(self.summary)
         info["summary"] = self.summary

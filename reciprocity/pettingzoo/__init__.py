@@ -26,7 +26,7 @@ from ..strategies import STRATEGIES
 from ..strategies.agent import StrategyAgent
 from ..strategies.base import Status
 from ..task import Report
-from ..gym.env import SUCCESS_REWARD
+from ..gym.env import SUCCESS_REWARD, end_reward
 from ..gym.faces import STOP, face_for
 
 __all__ = ["parallel_env", "SearchParallelEnv", "TeamPolicy"]
@@ -173,6 +173,7 @@ class SearchParallelEnv(ParallelEnv):
     def step(self, actions: dict):
         if self.run is None or not self.agents:
             raise SearchError("call reset() before step()")
+        rounds = self.search.rounds
         intents: dict[int, Intent] = {}
         for name, action in actions.items():
             k = self._index(name)
@@ -200,16 +201,17 @@ class SearchParallelEnv(ParallelEnv):
             going = True
         obs = self._observations()
         names = list(self.agents)
+        spent = -float(self.search.rounds - rounds)
         if going:
-            return (obs, {a: -1.0 for a in names}, {a: False for a in names}, {a: False for a in names},
+            return (obs, {a: spent for a in names}, {a: False for a in names}, {a: False for a in names},
                     {a: {} for a in names})
         episode = self.run.finish()
         self.summary = episode.summary
-        bonus = self.success_reward if self.summary.get("success") else 0.0
+        bonus = end_reward(self.summary, self.search, self.success_reward)
         truncated = str(self.summary.get("stop_reason", "")).startswith(StopReason.STEP_CAP.value)
         info = dict(self.summary, summary=self.summary, episode=episode)
         self.agents = []
-        return (obs, {a: -1.0 + bonus for a in names}, {a: not truncated for a in names},
+        return (obs, {a: spent + bonus for a in names}, {a: not truncated for a in names},
                 {a: truncated for a in names}, {a: dict(info) for a in names})
 
     def render(self):

@@ -107,7 +107,7 @@ def test_an_outside_policy_declares_its_estimate_by_stopping():
     assert not (terminated or truncated) and reward == -1.0 and obs["reading"][0] != 0.0
     obs, reward, terminated, truncated, info = env.step(np.array([71.0, 70.0, 1.0]))
     assert terminated and not truncated and info["success"] and info["n_measurements"] == 1
-    assert info["estimate"] == [71.0, 70.0] and reward == -1.0 + rg.SUCCESS_REWARD
+    assert info["estimate"] == [71.0, 70.0] and reward == rg.SUCCESS_REWARD     # stopping is no round
     with pytest.raises(SearchError, match="episode is over"):
         env.step(np.array([1.0, 1.0, 0.0]))
 
@@ -118,7 +118,17 @@ def test_a_plume_walker_is_truncated_at_the_budget():
     stay = env.unwrapped.face.n
     out = [env.step(stay) for _ in range(4)]
     assert [o[3] for o in out] == [False, False, False, True] and not out[-1][2]
-    assert out[-1][4]["stop_reason"].startswith("step cap")
+    assert out[-1][4]["stop_reason"].startswith("step cap") and [o[1] for o in out] == [-1.0] * 4
+
+
+def test_giving_up_early_never_pays_better_than_searching_on():
+    """A failed episode's return is minus the whole budget, however early it stopped."""
+    env = gymnasium.make("reciprocity/Plume-v0", scenario="otto-2d", max_steps=10)
+    env.reset(seed=0)
+    stop = env.unwrapped.face.n + 1
+    _, first, _, _, _ = env.step(env.unwrapped.face.n)         # stay once
+    _, last, terminated, _, info = env.step(stop)
+    assert terminated and not info["success"] and first + last == -10.0
 
 
 def test_bad_arguments_fail_cleanly():
