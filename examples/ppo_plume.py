@@ -3,9 +3,9 @@
     pip install -e ".[gym]" stable-baselines3      # torch: see the README of this folder's repo
     python examples/ppo_plume.py --timesteps 200000 --out ppo_plume
 
-The agent sees the posterior over the source as an image (``reciprocity.gym.BeliefImage``:
-otto's exact grid posterior on the 19 x 19 ``otto-2d`` grid, and its own cell) and chooses
-one of otto's four moves, stay or stop. Every ``--eval-every`` steps it is evaluated
+The agent sees the posterior over the source as an image centred on itself
+(``reciprocity.gym.BeliefImage(centred=True)``: otto's exact grid posterior on the 19 x 19
+``otto-2d`` grid) and chooses one of otto's four moves. Every ``--eval-every`` steps it is evaluated
 (deterministic actions) on the same ``--eval-seeds`` episodes as two references: infotaxis
 (``StrategyPolicy("infotaxis")``) and a random walk. The figure ``learning_curve.png`` shows
 its mean steps to the source falling toward infotaxis's; ``learning_curve.csv`` holds the
@@ -28,12 +28,23 @@ import numpy as np
 MAX_STEPS = 100
 
 
-def make_env(seed_offset: int = 0):
-    """The training environment: ``otto-2d`` with the belief as the observation."""
+def make_env():
+    """The training environment: ``otto-2d``, the belief centred on the searcher as the
+    observation (37 x 37), and otto's four moves as the actions (no stay, no stop: a
+    learner can neither park nor give up)."""
     import gymnasium
     import reciprocity.gym as rg
-    return rg.BeliefImage(gymnasium.make("reciprocity/Plume-v0", scenario="otto-2d", max_steps=MAX_STEPS),
-                          size=19)
+
+    class FourMoves(gymnasium.ActionWrapper):
+        def __init__(self, env):
+            super().__init__(env)
+            self.action_space = gymnasium.spaces.Discrete(4)
+
+        def action(self, action):
+            return action                    # moves 0-3 of the face; a StrategyPolicy's own actions pass
+
+    env = gymnasium.make("reciprocity/Plume-v0", scenario="otto-2d", max_steps=MAX_STEPS)
+    return FourMoves(rg.BeliefImage(env, size=19, centred=True))
 
 
 def evaluate(act, seeds, *, strategy: str | None = None) -> tuple[float, float]:

@@ -56,7 +56,7 @@ def test_ppo_plume_environment_and_evaluation():
     mod = load("ppo_plume")
     env = mod.make_env()
     obs, _ = env.reset(seed=0)
-    assert obs.shape == (2, 19, 19) and env.action_space.n == 6
+    assert obs.shape == (1, 37, 37) and env.action_space.n == 4
     steps, rate = mod.evaluate(None, [0, 1, 2], strategy="infotaxis")
     walk_steps, _ = mod.evaluate(mod.random_walk(0), [0, 1, 2])
     assert rate == 1.0 and steps < walk_steps <= mod.MAX_STEPS

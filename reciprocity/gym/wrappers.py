@@ -20,9 +20,15 @@ BELIEF_OF = {"poisson": "reciprocity", "lattice": "rbpf", "plume": "infotaxis", 
 
 
 class BeliefImage(gymnasium.ObservationWrapper):
-    """The observation becomes a ``(2, size, size)`` float32 image in [0, 1]: channel 0 the
-    posterior over the source (a built-in belief, updated with every percept the observer
-    receives, its mass per pixel over its maximum), channel 1 the observer's pixel.
+    """The observation becomes a float32 image in [0, 1] of the posterior over the source (a
+    built-in belief, updated with every percept the observer receives; its mass per pixel
+    over its maximum).
+
+    By default ``(2, size, size)``: channel 0 the posterior over the world, channel 1 the
+    observer's pixel. With ``centred=True``, ``(1, 2 size - 1, 2 size - 1)``: the posterior
+    shifted so that the observer's pixel is the centre (zero outside the world), the view
+    learning searchers train best on (it does not change with where the observer is, only
+    with what it believes relative to itself).
 
     Row 0 is the top of the world (y largest), as images are drawn.
 
@@ -35,11 +41,14 @@ class BeliefImage(gymnasium.ObservationWrapper):
     belief : str, optional
         The strategy whose belief is drawn (default: :data:`BELIEF_OF` of the world kind);
         only its belief is used, never its moves.
+    centred : bool
+        Centre the image on the observer (see above).
     **params
         That strategy's parameters (e.g. ``h=3.0`` for a coarser imaging mesh).
     """
 
-    def __init__(self, env: gymnasium.Env, size: int = 32, belief: str | None = None, **params):
+    def __init__(self, env: gymnasium.Env, size: int = 32, belief: str | None = None, *, centred: bool = False,
+                 **params):
         super().__init__(env)
         if isinstance(size, bool) or not isinstance(size, int) or not 8 <= size <= 256:
             raise SearchError(f"size must be a whole number of pixels from 8 to 256; got {size!r}")
@@ -49,7 +58,9 @@ class BeliefImage(gymnasium.ObservationWrapper):
             raise SearchError(f"unknown strategy {name!r} for the belief")
         self.size = size
         self._belief = StrategyAgent(STRATEGIES[name], params)
-        self.observation_space = spaces.Box(0.0, 1.0, (2, size, size), dtype=np.float32)
+        self.centred = bool(centred)
+        shape = (1, 2 * size - 1, 2 * size - 1) if self.centred else (2, size, size)
+        self.observation_space = spaces.Box(0.0, 1.0, shape, dtype=np.float32)
 
     def reset(self, **kwargs):
         obs, info = self.env.reset(**kwargs)
@@ -88,4 +99,10 @@ class BeliefImage(gymnasium.ObservationWrapper):
                 image[0] /= top
         r, c = self._pixel(np.asarray(observation["position"])[None], lo, hi)
         image[1, r, c] = 1.0
-        return image
+        if not self.centred:
+            return image
+        n = self.size
+        out = np.zeros(self.observation_space.shape, dtype=np.float32)
+        r0, c0 = n - 1 - int(r[0]), n - 1 - int(c[0])
+        out[0, r0:r0 + n, c0:c0 + n] = image[0]
+        return out

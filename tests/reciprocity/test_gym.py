@@ -86,6 +86,20 @@ def test_rgb_frames_and_the_belief_image(env_id, strategy, params):
     assert obs[0].max() == pytest.approx(1.0)    # the belief, scaled to its peak
 
 
+def test_the_centred_belief_image_puts_the_observer_in_the_middle():
+    env = rg.BeliefImage(gymnasium.make("reciprocity/Plume-v0"), size=19, centred=True)
+    plain = rg.BeliefImage(gymnasium.make("reciprocity/Plume-v0"), size=19)
+    obs, _ = env.reset(seed=4)
+    ref, _ = plain.reset(seed=4)
+    for action in (1, 3, 3):
+        obs, *_ = env.step(action)
+        ref, *_ = plain.step(action)
+    assert obs.shape == (1, 37, 37) and env.observation_space.contains(obs)
+    r, c = np.argwhere(ref[1] == 1.0)[0]
+    window = obs[0, 18 - r:18 - r + 19, 18 - c:18 - c + 19]
+    assert np.array_equal(window, ref[0]) and obs[0].sum() == pytest.approx(ref[0].sum())
+
+
 def test_frames_and_first_actions_do_not_depend_on_the_true_source():
     """What the policy and a viewer get before the first reading is the same wherever the
     source is: the truth stays behind the face."""
