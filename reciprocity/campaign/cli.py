@@ -113,18 +113,21 @@ def cmd_report(args) -> int:
 
 def cmd_reproduce(args) -> int:
     """``reciprocity reproduce TABLE`` / ``--list``: a paper table beside ours."""
-    from .reproduce import TABLES, comparison_markdown, reproduce
+    from .reproduce import TABLES, _table, comparison_markdown, reproduce
     if args.list:
         width = max(map(len, TABLES), default=0)
         for name, t in TABLES.items():
-            print(f"{name:<{width}}  {t.reference}: {t.title}")
+            extra = f" (--protocol {', '.join(t.protocols)})" if t.protocols else ""
+            print(f"{name:<{width}}  {t.reference}: {t.title}{extra}")
         return 0
     if args.table is None:
         raise SearchError("name a table (reciprocity reproduce --list shows them)")
-    out = check_output(args.out or f"reproduce_{args.table}", "--out", folder=True, error=SearchError)
+    _table(args.table).protocol(args.protocol)          # both checked before any output
+    suffix = "" if args.protocol in (None, "default") else f"-{args.protocol}"
+    out = check_output(args.out or f"reproduce_{args.table}{suffix}", "--out", folder=True, error=SearchError)
     table, result, rows, files = reproduce(args.table, out, runs=args.runs, workers=args.workers,
                                            scheduler=args.scheduler, tls=_tls(args),
-                                           progress=_progress(args))
+                                           progress=_progress(args), protocol=args.protocol)
     print(_ran(result))
     text = comparison_markdown(table, rows)
     (Path(out) / "comparison.md").write_text(text)
@@ -161,6 +164,9 @@ def add_commands(subparsers) -> None:
     p.add_argument("--list", action="store_true", help="list the reproducible tables")
     p.add_argument("--runs", type=lambda t: _whole(t, 1, MAX_SEEDS), metavar="N",
                    help=f"runs per strategy, 1 to {MAX_SEEDS} (default: the table's)")
-    p.add_argument("--out", metavar="DIR", help="results folder (default reproduce_TABLE)")
+    p.add_argument("--out", metavar="DIR", help="results folder (default reproduce_TABLE, or "
+                   "reproduce_TABLE-PROTOCOL)")
+    p.add_argument("--protocol", metavar="NAME", help="run the table under another protocol the table "
+                   "offers (e.g. 'paper': the paper's own set-up; --list names them)")
     _where(p)
     p.set_defaults(func=cmd_reproduce)

@@ -4,7 +4,7 @@ the registry :data:`TABLES` (filled by :mod:`reciprocity.campaign.tables`)."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from ..errors import SearchError
@@ -93,6 +93,10 @@ class PaperTable:
         ``after(directory, spec) -> list of Path``: called once the campaign is complete
         (e.g. the paper's figures, example tracks); writes under `directory` and returns
         the files written.
+    protocols : mapping, optional
+        Other ways to run the same table (``reproduce TABLE --protocol NAME``): name ->
+        ``(build_spec, note)``, e.g. ``"paper"``, the paper's own protocol where the
+        default differs from it.
     """
 
     name: str
@@ -103,6 +107,18 @@ class PaperTable:
     default_runs: int = 20
     note: str = ""
     after: Callable[[Path, CampaignSpec], list[Path]] | None = None
+    protocols: dict = field(default_factory=dict)
+
+    def protocol(self, name: str | None) -> "PaperTable":
+        """This table run under protocol `name` (None or ``"default"``: itself). Its
+        campaign is named ``TABLE-NAME``, so its results never mix with the default's."""
+        if name in (None, "default"):
+            return self
+        if name not in self.protocols:
+            allowed = ", ".join(["default", *self.protocols])
+            raise SearchError(f"--protocol must be one of {allowed} for table {self.name!r}; got {name!r}")
+        build, note = self.protocols[name]
+        return replace(self, name=f"{self.name}-{name}", build_spec=build, note=note, protocols={})
 
     def spec(self, runs: int | None = None) -> CampaignSpec:
         """The validated campaign with `runs` seeds (default :attr:`default_runs`)."""

@@ -141,7 +141,7 @@ def comparison_markdown(table: PaperTable, rows: list[dict]) -> str:
 
 def reproduce(name: str, directory, *, runs: int | None = None, workers: int | None = None,
               scheduler: str | None = None, tls: TLSFiles | None = None,
-              progress: bool | None = None
+              progress: bool | None = None, protocol: str | None = None
               ) -> tuple[PaperTable, CampaignResult, list[dict], list[Path]]:
     """Run (or resume) the campaign of table `name` and compare it with the paper.
 
@@ -156,6 +156,8 @@ def reproduce(name: str, directory, *, runs: int | None = None, workers: int | N
         default: the table's.
     workers, scheduler, tls, progress
         As in :func:`reciprocity.campaign.run_campaign`.
+    protocol : str, optional
+        One of the table's :attr:`PaperTable.protocols` (default: its own set-up).
 
     Returns
     -------
@@ -163,7 +165,7 @@ def reproduce(name: str, directory, *, runs: int | None = None, workers: int | N
         The table, what the run did, :func:`compare`'s rows, and the files the table's
         :attr:`PaperTable.after` wrote (empty without one).
     """
-    table = _table(name)
+    table = _table(name).protocol(protocol)
     if runs is not None and (isinstance(runs, bool) or not isinstance(runs, int)
                              or not 1 <= runs <= MAX_SEEDS):
         raise SearchError(f"--runs must be a whole number from 1 to {MAX_SEEDS}; got {runs!r}")

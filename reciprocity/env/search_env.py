@@ -213,7 +213,8 @@ class SearchEnv:
             wall_time_s=time.perf_counter() - self._t0,
             start=self._starts[0].tolist(), params=dict(report.params), n_rejected=int(report.n_rejected),
             source_reachable=self._source_reachable,
-            platform=plats[0].name, **world.describe(), **plats[0].summary())
+            platform=plats[0].name, **world.describe(), **world.describe_start(self._starts[0]),
+            **plats[0].summary())
         if len(plats) > 1 or report.agents != 1:
             summary.update(n_agents=len(plats), messages=len(report.messages), starts=self._starts.tolist())
         true = np.array([p.true_position[:2] for p in plats], dtype=float)

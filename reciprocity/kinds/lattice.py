@@ -9,13 +9,13 @@ from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..spaces.lattice import LatticeSpace
 from ..validation import point
-from ..worlds.lattice import PERCOLATION_THRESHOLD, LatticeWorld, draw_links
+from ..worlds.lattice import PERCOLATION_THRESHOLD, LatticeWorld, clusters, draw_links
 
 __all__ = ["LATTICE", "LATTICE_KEYS", "MIN_RADIUS", "MAX_RADIUS"]
 
 #: Parameters of a ``lattice`` scenario.
 LATTICE_KEYS = ("radius", "p", "source", "strength", "entry", "slip", "primary", "secondary",
-                "connectivity", "lattice_seed", "map")
+                "connectivity", "lattice_seed", "map", "links")
 #: Smallest lattice radius accepted.
 MIN_RADIUS = 2
 #: Largest lattice radius accepted (about 32,000 nodes and 64,000 links).
@@ -90,7 +90,51 @@ def _check(params: dict) -> dict:
         raise SearchError(f"map must be 'unknown' (the searcher knows only the complete lattice, the "
                           f"paper) or 'known' (it is told which links exist); got {mp!r}")
     out["map"] = mp
+    links = params.get("links")
+    if links is not None:
+        if ls is not None:
+            raise SearchError("give either links (one lattice from a file) or lattice_seed (one drawn lattice), "
+                              "not both")
+        present = lattice_links(links, space)
+        lab = clusters(space.with_links(present))
+        ends = [int(space.index_of(out["source"])[0])]
+        if out.get("entry") is not None:
+            ends.append(int(space.index_of(out["entry"])[0]))
+        if len({int(lab[i]) for i in ends}) != 1:
+            raise SearchError(f"links {links!r}: the source and the entry are not connected on that lattice")
+        out["links"] = str(links)
     return out
+
+
+#: Folder of the built-in lattices (``links: NAME``).
+LATTICES = "lattices"
+
+
+def lattice_links(name: str, space: LatticeSpace) -> np.ndarray:
+    """The links mask of a built-in lattice (``reciprocity/data/lattices/NAME.npz``) or of an
+    ``.npz`` file with a boolean array ``present`` of one entry per link of `space`."""
+    import zipfile
+    from importlib import resources
+    from pathlib import Path
+    if not isinstance(name, str) or not name:
+        raise SearchError(f"links must be a built-in lattice name or an .npz file; got {name!r}")
+    builtin = resources.files("reciprocity") / "data" / LATTICES / f"{name}.npz"
+    path = Path(str(builtin)) if builtin.is_file() else Path(name)
+    if path.suffix != ".npz" or not path.is_file():
+        names = sorted(p.name[:-4] for p in (resources.files("reciprocity") / "data" / LATTICES).iterdir()
+                       if p.name.endswith(".npz"))
+        raise SearchError(f"links {name!r} is neither a built-in lattice ({', '.join(names)}) nor an .npz file")
+    if path.stat().st_size > 1_000_000:
+        raise SearchError(f"links file {name!r} is larger than 1 MB; a lattice's links mask is a few kB")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            present = np.asarray(data["present"])
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
+        raise SearchError(f"links file {name!r} is not an .npz with a boolean array 'present': {exc}") from None
+    if present.dtype != bool or present.shape != (len(space.links),):
+        raise SearchError(f"links file {name!r}: 'present' must be {len(space.links)} booleans (the links of "
+                          f"R0 = {space.radius:g}); got {present.dtype} of shape {present.shape}")
+    return present
 
 
 def _build(params: dict, rng: np.random.Generator) -> LatticeWorld:
@@ -98,9 +142,12 @@ def _build(params: dict, rng: np.random.Generator) -> LatticeWorld:
     keep = [int(full.index_of(params["source"])[0])]
     if params.get("entry") is not None:
         keep.append(int(full.index_of(params["entry"])[0]))
-    if params.get("lattice_seed") is not None:       # one lattice for all episodes (the paper's Fig. 2)
-        rng = np.random.default_rng(np.random.SeedSequence([int(params["lattice_seed"]), 0x1A77]))
-    present, draws = draw_links(full, params["p"], rng, connectivity=params["connectivity"], keep=tuple(keep))
+    if params.get("links") is not None:               # one lattice from a file (the paper's Fig. 2)
+        present, draws = lattice_links(params["links"], full), 0
+    else:
+        if params.get("lattice_seed") is not None:    # one drawn lattice for all episodes
+            rng = np.random.default_rng(np.random.SeedSequence([int(params["lattice_seed"]), 0x1A77]))
+        present, draws = draw_links(full, params["p"], rng, connectivity=params["connectivity"], keep=tuple(keep))
     return LatticeWorld(full.with_links(present), params["source"], params["strength"],
                         primary=params["primary"], secondary=params["secondary"], p=params["p"],
                         slip=params["slip"], draws=draws, map_known=params.get("map") == "known")

@@ -74,3 +74,8 @@ class World(ABC):
     def describe(self) -> dict:
         """Summary keys describing the world (including its mismatch options)."""
         return {}
+
+    def describe_start(self, start) -> dict:
+        """Summary keys describing the world as seen from an observer's `start` (e.g. the
+        lattice's shortest path to the source); the evaluator's, never a strategy's."""
+        return {}

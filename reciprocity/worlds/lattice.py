@@ -32,7 +32,7 @@ MAX_REDRAWS = 20000
 MAX_REDRAW_LINKS = 10_000_000
 
 
-def _clusters(space: LatticeSpace) -> np.ndarray:
+def clusters(space: LatticeSpace) -> np.ndarray:
     return connected_components(space.adjacency, directed=False)[1]
 
 
@@ -68,7 +68,7 @@ def draw_links(space: LatticeSpace, p: float, rng: np.random.Generator, *, conne
     for draw in range(1, tries + 1):
         present = np.ones(n_links, dtype=bool)
         present[rng.choice(n_links, n_cut, replace=False)] = False
-        lab = _clusters(space.with_links(present))
+        lab = clusters(space.with_links(present))
         ok = keep.size == 0 or np.all(lab[keep] == lab[keep[0]])
         if connectivity == "all":
             t = lab[space.transient]
@@ -100,7 +100,7 @@ def green_row(space: LatticeSpace, source: int) -> np.ndarray:
     -------
     ndarray, shape (n,)
     """
-    lab = _clusters(space)
+    lab = clusters(space)
     if not np.any(~space.transient & (lab == lab[source])):
         raise SearchError("the source's cluster of links never reaches the boundary ring; redraw the lattice")
     t = np.flatnonzero(space.transient & (lab == lab[source]))   # closed clusters elsewhere: F = 0
@@ -199,6 +199,16 @@ class LatticeWorld(World):
         if self.map_known:
             out["links"] = self.space.present.copy()      # the map, never the source
         return out
+
+    def describe_start(self, start) -> dict:
+        """``shortest_path``: links from the node of `start` to the source over the links
+        present (None when they are not connected)."""
+        from scipy.sparse.csgraph import shortest_path
+        node = int(self.space.index_of(np.asarray(start, dtype=float)[:2])[0])
+        if node < 0:
+            return {"shortest_path": None}
+        d = shortest_path(self.space.adjacency, unweighted=True, directed=False, indices=node)[self.source_node]
+        return {"shortest_path": int(d) if np.isfinite(d) else None}
 
     def describe(self) -> dict:
         return dict(strength=self.strength, missing_links=int((~self.space.present).sum()),

@@ -250,3 +250,42 @@ def test_world_without_map_knowledge_in_nominal():
     nom = w.nominal()
     assert nom["space"].present.all() and "source" not in nom
     assert isinstance(w, LatticeWorld)
+
+
+def test_the_papers_lattice_is_shipped_with_its_shortest_paths():
+    """ristic-lattice-paper: one lattice from its data file, 200 of 572 links missing, every
+    node connected, shortest paths 20, 14 and 8 links from the entry (the paper's Fig. 2),
+    reported in the summary as `shortest_path`."""
+    from reciprocity.api import execute
+    from reciprocity.scenarios import load_scenario
+    sc = load_scenario("ristic-lattice-paper")
+    worlds = [sc.build_world(seed) for seed in (0, 1)]
+    assert np.array_equal(worlds[0].space.present, worlds[1].space.present)     # one lattice for every run
+    assert (~worlds[0].space.present).sum() == 200 and worlds[0].space.present.size == 572
+    for source, links in (([0, 7], 20), ([0, 1], 14), ([2, -5], 8)):
+        w = sc.with_world({"source": source}).build_world(0)
+        assert w.describe_start([9, -4])["shortest_path"] == links
+    ep, _, _ = execute("ristic-lattice-paper", "rbpf", seed=0, params={"n_particles": 200, "n_gain": 20},
+                       world={"source": [2, -5]})
+    assert ep.summary["shortest_path"] == 8 and ep.summary["lattice_draws"] == 0
+
+
+def test_lattice_links_files_are_checked(tmp_path):
+    from reciprocity.scenarios import load_scenario
+    sc = load_scenario("ristic-lattice")
+    with pytest.raises(SearchError, match="neither a built-in lattice"):
+        sc.with_world({"links": "nope"})
+    bad = tmp_path / "bad.npz"
+    np.savez(bad, present=np.ones(10, dtype=bool))
+    with pytest.raises(SearchError, match="572 booleans"):
+        sc.with_world({"links": str(bad)})
+    junk = tmp_path / "junk.npz"
+    junk.write_bytes(b"not a zip")
+    with pytest.raises(SearchError, match="not an .npz"):
+        sc.with_world({"links": str(junk)})
+    with pytest.raises(SearchError, match="not both"):
+        sc.with_world({"links": "ristic-fig2", "lattice_seed": 3})
+    cut = tmp_path / "cut.npz"
+    np.savez(cut, present=np.zeros(572, dtype=bool))
+    with pytest.raises(SearchError, match="not connected"):
+        sc.with_world({"links": str(cut)})

@@ -141,3 +141,25 @@ def test_reproduce_list_names_every_table(capsys):
     assert [n for n in names if n in DESIGN_TABLES] == list(DESIGN_TABLES)
     assert set(TABLES) <= set(names)
     assert all(TABLES[n].reference in out for n in DESIGN_TABLES)
+
+
+@pytest.mark.parametrize("name", ["ristic2014-table1", "ristic2014-table2"])
+def test_the_ristic_tables_run_under_the_papers_protocol(name):
+    """--protocol paper: every row on the one shipped lattice (ristic-lattice-paper), in a
+    campaign of its own name; other protocols are refused with the allowed ones."""
+    table = TABLES[name].protocol("paper")
+    spec = table.spec(2)
+    assert spec.name == f"{name}-paper" and {s.ref for s in spec.scenarios} == {"ristic-lattice-paper"}
+    assert "Fig. 2" in table.note and TABLES[name].protocol("default") is TABLES[name]
+    with pytest.raises(SearchError, match="default, paper"):
+        TABLES[name].protocol("nope")
+
+
+def test_reproduce_protocol_on_the_command_line(tmp_path, capsys):
+    out = tmp_path / "r"
+    assert main(["reproduce", "ristic2014-table1", "--protocol", "paper", "--runs", "1", "--workers", "1",
+                 "--out", str(out), "--quiet"]) == 0
+    text = capsys.readouterr().out
+    assert "Protocol 'paper'" in text and (out / "comparison.md").exists()
+    assert main(["reproduce", "ristic2014-table1", "--protocol", "nope", "--out", str(tmp_path / "x")]) == 2
+    assert not (tmp_path / "x").exists()
