@@ -73,6 +73,27 @@ def random_walk(seed: int):
     return lambda obs: int(rng.integers(4))
 
 
+def plot_curve(rows: list[dict], n_episodes: int, path: Path) -> None:
+    """The learning curve: PPO's mean steps against training steps, beside infotaxis and
+    the random walk."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6.4, 4))
+    t = [float(r["timesteps"]) for r in rows]
+    ax.plot(t, [float(r["ppo_steps"]) for r in rows], "o-", label="PPO on the centred belief image")
+    info, walk = float(rows[0]["infotaxis_steps"]), float(rows[0]["random_steps"])
+    ax.axhline(info, color="k", ls="--", label=f"infotaxis ({info:.1f})")
+    ax.axhline(walk, color="0.6", ls=":", label=f"random walk ({walk:.1f})")
+    ax.set_xlabel("training steps")
+    ax.set_ylabel("mean steps to the source")
+    ax.set_title(f"otto-2d (19 x 19), {n_episodes} test episodes (a failure counts {MAX_STEPS})", fontsize=10)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+
+
 def main(argv=None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--timesteps", type=int, default=200_000)
@@ -108,20 +129,7 @@ def main(argv=None) -> list[dict]:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6, 4))
-    t = [r["timesteps"] for r in rows]
-    ax.plot(t, [r["ppo_steps"] for r in rows], "o-", label="PPO on the belief image")
-    ax.axhline(info_steps, color="k", ls="--", label=f"infotaxis ({info_steps:.1f})")
-    ax.axhline(rand_steps, color="0.6", ls=":", label=f"random walk ({rand_steps:.1f})")
-    ax.set_xlabel("training steps")
-    ax.set_ylabel(f"mean steps to the source ({len(seeds)} episodes; failure = {MAX_STEPS})")
-    ax.set_title("otto-2d (19 x 19): PPO learning to search")
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(args.out / "learning_curve.png", dpi=150)
+    plot_curve(rows, len(seeds), args.out / "learning_curve.png")
     return rows
 
 

@@ -51,9 +51,12 @@ def test_lattice_figures(tmp_path, pixels_near):
     assert pixels_near(tmp_path / "search.png", (255, 127, 14), 50) > 200   # the source particle cloud
 
 
-def test_ppo_plume_environment_and_evaluation():
-    """The PPO example's environment and evaluation (the training itself needs PyTorch)."""
+def test_ppo_plume_environment_and_evaluation(tmp_path):
+    """The PPO example's environment, evaluation and figure (the training needs PyTorch)."""
     mod = load("ppo_plume")
+    rows = [dict(timesteps=t, ppo_steps=s, infotaxis_steps=14.2, random_steps=68.4) for t, s in ((0, 80), (10, 20))]
+    mod.plot_curve(rows, 3, tmp_path / "curve.png")
+    assert (tmp_path / "curve.png").stat().st_size > 10_000
     env = mod.make_env()
     obs, _ = env.reset(seed=0)
     assert obs.shape == (1, 37, 37) and env.action_space.n == 4
