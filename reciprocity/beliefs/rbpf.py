@@ -61,12 +61,19 @@ class RBPFBelief(Belief):
         kernel of optimal width for N particles in 2-D.
     min_distance : float
         Floor of the searcher–source distance in eq. (25).
+    links : array_like of bool, shape (L,), optional
+        The map when it is known (an oracle rung below the paper): every particle holds
+        it with certainty and keeps it (no map dynamics).
+    gain : callable, optional
+        ``gain(nodes, sources) -> c``: the mean count per unit release rate at searcher
+        `nodes` for `sources` (one per particle), in place of eq. (25), e.g. the lattice's
+        own field (:class:`reciprocity.models.lattice.LatticeGreen`) on a known map.
     """
 
     def __init__(self, space: LatticeSpace, start, rng: np.random.Generator, *, n_particles: int = 4000,
                  eta0: float = 15.0, theta0: float = 1.0, q0: float = 0.5, persistence: float = 0.999,
                  slip: float = 0.04, primary=(1.0, 0.0), secondary=(0.8, 0.1), regularise: bool = True,
-                 min_distance: float = MIN_DISTANCE):
+                 min_distance: float = MIN_DISTANCE, links=None, gain=None):
         self.space, self.rng = space, rng
         self.radius = space.radius
         n = int(n_particles)
@@ -76,6 +83,10 @@ class RBPFBelief(Belief):
         self.source = np.column_stack([r * np.cos(a), r * np.sin(a)])
         self.node = np.full(n, int(space.index_of(start)[0]), dtype=np.int64)
         self.q = np.full((n, len(space.links)), q0, dtype=np.float32)
+        if links is not None:
+            self.q[:] = np.asarray(links, dtype=np.float32)[None, :]
+            persistence = 1.0
+        self.gain = gain
         self.eta = float(eta0)
         self.theta = np.full(n, float(theta0))
         self.w = np.full(n, 1.0 / n)
@@ -111,6 +122,8 @@ class RBPFBelief(Belief):
 
     def c(self, nodes: np.ndarray | None = None) -> np.ndarray:
         """c of eq. (25) for every particle at `nodes` (default: its own node)."""
+        if self.gain is not None:
+            return self.gain(self.node if nodes is None else nodes, self.source)
         at = self.space.points[self.node if nodes is None else nodes]
         return log_gain(at, self.source, self.radius, min_distance=self.min_distance)
 

@@ -27,6 +27,28 @@ __all__ = ["RBPFStrategy", "RBPFInfotaxisStrategy", "MIN_PARTICLES"]
 
 
 
+def _lattice_gain(space, links):
+    """The lattice's own field on the map `links` as the RBPF's gain: ``c = F[x, z]`` for a
+    source particle at (the node nearest) x and the searcher at node z (one sparse solve per
+    searcher node, cached); a particle off every candidate node gets a tiny gain."""
+    from ..models.lattice import LatticeGreen
+    green = LatticeGreen(space.with_links(links))
+
+    def gain(nodes, sources):
+        nodes = np.asarray(nodes, dtype=np.int64)
+        src = space.index_of(np.rint(sources))
+        uniq, inv = np.unique(nodes, return_inverse=True)
+        cols = green.visits(uniq)                                # (n_nodes, k)
+        if nodes.ndim == 0:
+            return np.where(src >= 0, cols[np.maximum(src, 0), 0], 0.0) + 1e-9
+        if nodes.shape == src.shape:
+            c = cols[np.maximum(src, 0), inv.reshape(nodes.shape)]
+        else:                                                    # one node for every particle
+            c = cols[np.maximum(src, 0), inv[0]]
+        return np.where(src >= 0, c, 0.0) + 1e-9
+    return gain
+
+
 @register
 class RBPFStrategy(Strategy):
     """The searcher of Ristic, Skvortsov & Walker (2014): RBPF + Bhattacharyya gain.
@@ -91,8 +113,17 @@ class RBPFStrategy(Strategy):
     def __init__(self, *, n_particles: int = 4000, n_gain: int = 400, eta0: float = 15.0, theta0: float = 1.0,
                  q0: float = 0.5, persistence: float = 0.999, ideal: str = "mean", regularise: bool = True,
                  min_distance: float = MIN_DISTANCE, loop_window: int = 10, loop_visits: int = 3,
-                 stay: bool = True, planner: str = "gain"):
+                 stay: bool = True, planner: str = "gain", map: str = "unknown", field: str = "conformal"):
         super().__init__()
+        if map not in ("unknown", "known"):
+            raise SearchError(f"map must be 'unknown' (the paper) or 'known' (an oracle: the scenario must say "
+                              f"map: known); got {map!r}")
+        if field not in ("conformal", "lattice"):
+            raise SearchError(f"field must be 'conformal' (the paper's eq. (25)) or 'lattice' (the lattice's own "
+                              f"field on the known map, an oracle); got {field!r}")
+        if field == "lattice" and map != "known":
+            raise SearchError("field='lattice' needs map='known' (the lattice's field is that of its map)")
+        self.map, self.field = map, field
         if planner not in ("gain", "path"):
             raise SearchError(f"planner must be 'gain' (the paper's one-step gain) or 'path' (shortest paths "
                               f"over the believed map toward the source particles); got {planner!r}")
@@ -120,18 +151,25 @@ class RBPFStrategy(Strategy):
         return dict(n_particles=self.n_particles, n_gain=self.n_gain, eta0=self.eta0, theta0=self.theta0,
                     q0=self.q0, persistence=self.persistence, ideal=self.ideal, regularise=self.regularise,
                     min_distance=self.min_distance, loop_window=self.loop_window, loop_visits=self.loop_visits,
-                    stay=self.stay, planner=self.planner)
+                    stay=self.stay, planner=self.planner, map=self.map, field=self.field)
 
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
         nom = ctx.nominal
         self.space = nom["space"]
         self.rng = ctx.rng
+        links = gain = None
+        if self.map == "known":
+            if "links" not in nom:
+                raise SearchError("map='known' needs a scenario that tells the map (map: known)")
+            links = np.asarray(nom["links"], dtype=bool)
+            if self.field == "lattice":
+                gain = _lattice_gain(self.space, links)
         self.belief = RBPFBelief(self.space, ctx.start[:2], ctx.rng, n_particles=self.n_particles, eta0=self.eta0,
                                  theta0=self.theta0, q0=self.q0, persistence=self.persistence,
                                  slip=float(nom.get("slip", 0.04)), primary=nom.get("primary", (1.0, 0.0)),
                                  secondary=nom.get("secondary", (0.8, 0.1)), regularise=self.regularise,
-                                 min_distance=self.min_distance)
+                                 min_distance=self.min_distance, links=links, gain=gain)
         self.pose = np.asarray(ctx.start[:2], dtype=float).copy()
         self.visits: list[int] = []
         self.gains = np.zeros(len(CONTROLS))

@@ -289,3 +289,27 @@ def test_lattice_links_files_are_checked(tmp_path):
     np.savez(cut, present=np.zeros(572, dtype=bool))
     with pytest.raises(SearchError, match="not connected"):
         sc.with_world({"links": str(cut)})
+
+
+def test_rbpf_oracle_rungs_use_the_map_and_the_lattice_field():
+    """The oracle ladder's rungs: map='known' holds the true links with certainty, and
+    field='lattice' gives the truth's own mean count A0 F[x, z] per unit A0."""
+    from reciprocity.env import SearchEnv
+    from reciprocity.strategies import STRATEGIES
+    from reciprocity.strategies.agent import StrategyAgent
+    with pytest.raises(SearchError, match="needs map='known'"):
+        STRATEGIES["rbpf"](field="lattice")
+    env = SearchEnv("ristic-lattice-paper", world={"map": "known"})
+    _, info = env.reset(seed=0)
+    agent = StrategyAgent(STRATEGIES["rbpf"], {"map": "known", "field": "lattice", "n_particles": 50})
+    agent.reset(info["task"], info["agent_seed"])
+    b, world = agent.strategy.belief, env.world
+    assert np.array_equal(b.q[0] == 1.0, world.space.present) and np.all((b.q == 0) | (b.q == 1))
+    at_source = np.tile(world.source, (3, 1)).astype(float)
+    nodes = np.array([world.space.index_of([9, -4])[0], world.space.index_of([5, 0])[0], world.source_node])
+    c = b.gain(nodes, at_source)
+    assert np.allclose(c, world.lam[nodes] / world.strength + 1e-9)
+    plain = SearchEnv("ristic-lattice-paper")
+    _, info = plain.reset(seed=0)
+    with pytest.raises(SearchError, match="tells the map"):
+        StrategyAgent(STRATEGIES["rbpf"], {"map": "known"}).reset(info["task"], info["agent_seed"])
