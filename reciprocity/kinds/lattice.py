@@ -121,8 +121,8 @@ def lattice_links(name: str, space: LatticeSpace) -> np.ndarray:
     builtin = resources.files("reciprocity") / "data" / LATTICES / f"{name}.npz"
     path = Path(str(builtin)) if builtin.is_file() else Path(name)
     if path.suffix != ".npz" or not path.is_file():
-        names = sorted(p.name[:-4] for p in (resources.files("reciprocity") / "data" / LATTICES).iterdir()
-                       if p.name.endswith(".npz"))
+        folder = resources.files("reciprocity") / "data" / LATTICES
+        names = sorted(p.name[:-4] for p in folder.iterdir() if p.name.endswith(".npz")) if folder.is_dir() else []
         raise SearchError(f"links {name!r} is neither a built-in lattice ({', '.join(names)}) nor an .npz file")
     if path.stat().st_size > 1_000_000:
         raise SearchError(f"links file {name!r} is larger than 1 MB; a lattice's links mask is a few kB")
