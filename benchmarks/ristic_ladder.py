@@ -14,6 +14,8 @@ and, to separate the model from the control, rung 1 with the ``path`` planner (s
 paths on the known map toward the source particles) instead of the one-step gain.
 Success as in the paper (Sec. 5.1: on the source within 100 steps and self-localised),
 with Wilson 95 % intervals (``scipy.stats.binomtest``); mean steps over the successes.
+``--experiment control`` keeps rung 1 and changes one setting of the control at a time
+(ideal measurements drawn instead of the mean, no anti-oscillation rule, no stay, M = 4000).
 Results: the doc of :mod:`reciprocity.campaign.tables.ristic2014`.
 """
 
@@ -24,6 +26,16 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 from scipy import stats
+
+#: Rung 1 with one setting of the control changed at a time (``--experiment control``).
+_KNOWN = {"map": "known", "field": "lattice"}
+CONTROL = (
+    ("1. as the paper (one-step gain, ideal = mean, loop rule 10/3, stay allowed)", _KNOWN, {"map": "known"}),
+    ("1a. ideal measurements drawn from G(eta, theta) (Sec. 4.3)", {**_KNOWN, "ideal": "sample"}, {"map": "known"}),
+    ("1b. no anti-oscillation rule", {**_KNOWN, "loop_visits": 10_000}, {"map": "known"}),
+    ("1c. stay only when no move is admissible", {**_KNOWN, "stay": False}, {"map": "known"}),
+    ("1d. M = 4000 ideal measurements", {**_KNOWN, "n_gain": 4000}, {"map": "known"}),
+)
 
 RUNGS = (
     ("1. map known, lattice field", {"map": "known", "field": "lattice"}, {"map": "known"}),
@@ -45,12 +57,14 @@ def main(argv=None) -> None:
     ap.add_argument("--runs", type=int, default=100)
     ap.add_argument("--source", default="0,7")
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--experiment", choices=("ladder", "control"), default="ladder",
+                    help="the ladder, or rung 1 with one control setting changed at a time")
     args = ap.parse_args(argv)
     source = [int(v) for v in args.source.split(",")]
     print(f"source {tuple(source)}, {args.runs} runs per rung (seeds 0..{args.runs - 1})\n")
     print("| rung | success | 95 % CI | reached | mean steps (successes) |\n|---|---:|---|---:|---:|")
     with ProcessPoolExecutor(args.workers) as pool:
-        for label, params, world in RUNGS:
+        for label, params, world in (RUNGS if args.experiment == "ladder" else CONTROL):
             jobs = [(params, {**world, "source": source}, seed) for seed in range(args.runs)]
             out = list(pool.map(one, jobs))
             k = sum(o[0] for o in out)

@@ -104,9 +104,9 @@ def test_a_start_heading_in_a_spec_is_in_degrees_like_scenario_files():
     assert world_overrides({"start": [1, 2, 90], "rate": 1}) == {"start": [1, 2, np.pi / 2], "rate": 1}
     assert world_overrides({"start": [[1, 2, 180], [3, 4]]}) == {"start": [[1, 2, np.pi], [3, 4]]}
     spec = parse_spec({"name": "h", "strategies": ["infotaxis"], "seeds": 1,
-                       "scenarios": [{"name": "song-100", "world": {"start": [33.33, -33.33, 90]}}]})
+                       "scenarios": [{"name": "song-100-printed", "world": {"start": [33.33, -33.33, 90]}}]})
     episode, _, _ = execute_task(next(iter(spec.tasks())))
-    # one step from heading +y with turns of at most 3 degrees (song-100's printed limit)
+    # one step from heading +y with turns of at most 3 degrees (the printed limit)
     pose = episode.records[0].pose
     assert abs(pose[2] - np.pi / 2) <= np.radians(3) + 1e-9
 

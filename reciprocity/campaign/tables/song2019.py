@@ -12,7 +12,8 @@ at most **±30° per step** (``world: {max_turn: 30}``, Ω = {−3..3}·π/18) i
 printed Ω = {−3..3}·π/180 (±3°). With ±3° and T = 1 the turning radius is about 19
 against R_s = 3: one-step policies circle the estimate for good (infotaxis 70 %,
 entrotaxis 46 % found within 20·L steps at 100²), which the paper does not report; with
-±30° every strategy finds the source. The scenario files keep the printed ±3°.
+±30° every strategy finds the source. The scenarios ``song-100`` … ``song-350`` are that
+set-up; the printed ±3° are ``song-100-printed`` … ``song-350-printed``.
 
 Other differences, measured with the former runner (2026-11-23):
 
