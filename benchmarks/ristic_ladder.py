@@ -15,7 +15,8 @@ paths on the known map toward the source particles) instead of the one-step gain
 Success as in the paper (Sec. 5.1: on the source within 100 steps and self-localised),
 with Wilson 95 % intervals (``scipy.stats.binomtest``); mean steps over the successes.
 ``--experiment control`` keeps rung 1 and changes one setting of the control at a time
-(ideal measurements drawn instead of the mean, no anti-oscillation rule, no stay, M = 4000).
+(ideal measurements drawn instead of the mean, no anti-oscillation rule, no stay, M = 4000);
+``--experiment stay`` runs the paper's set-up with and without the stay control.
 Results: the doc of :mod:`reciprocity.campaign.tables.ristic2014`.
 """
 
@@ -35,6 +36,12 @@ CONTROL = (
     ("1b. no anti-oscillation rule", {**_KNOWN, "loop_visits": 10_000}, {"map": "known"}),
     ("1c. stay only when no move is admissible", {**_KNOWN, "stay": False}, {"map": "known"}),
     ("1d. M = 4000 ideal measurements", {**_KNOWN, "n_gain": 4000}, {"map": "known"}),
+)
+
+#: The paper's set-up with the one control setting that mattered on rung 1 (``--experiment stay``).
+STAY = (
+    ("3. the paper: map unknown, eq. (25)", {}, {}),
+    ("3c. as 3, stay only when no move is admissible", {"stay": False}, {}),
 )
 
 RUNGS = (
@@ -57,14 +64,14 @@ def main(argv=None) -> None:
     ap.add_argument("--runs", type=int, default=100)
     ap.add_argument("--source", default="0,7")
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--experiment", choices=("ladder", "control"), default="ladder",
+    ap.add_argument("--experiment", choices=("ladder", "control", "stay"), default="ladder",
                     help="the ladder, or rung 1 with one control setting changed at a time")
     args = ap.parse_args(argv)
     source = [int(v) for v in args.source.split(",")]
     print(f"source {tuple(source)}, {args.runs} runs per rung (seeds 0..{args.runs - 1})\n")
     print("| rung | success | 95 % CI | reached | mean steps (successes) |\n|---|---:|---|---:|---:|")
     with ProcessPoolExecutor(args.workers) as pool:
-        for label, params, world in (RUNGS if args.experiment == "ladder" else CONTROL):
+        for label, params, world in {"ladder": RUNGS, "control": CONTROL, "stay": STAY}[args.experiment]:
             jobs = [(params, {**world, "source": source}, seed) for seed in range(args.runs)]
             out = list(pool.map(one, jobs))
             k = sum(o[0] for o in out)
