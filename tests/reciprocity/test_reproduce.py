@@ -163,3 +163,15 @@ def test_reproduce_protocol_on_the_command_line(tmp_path, capsys):
     assert "Protocol 'paper'" in text and (out / "comparison.md").exists()
     assert main(["reproduce", "ristic2014-table1", "--protocol", "nope", "--out", str(tmp_path / "x")]) == 2
     assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize("name, protocol", [(n, p) for n, t in TABLES.items() for p in t.protocols])
+def test_every_protocol_spec_validates_and_prints_every_paper_value(name, protocol):
+    table = TABLES[name].protocol(protocol)
+    spec = table.spec(2)
+    assert spec.name == f"{name}-{protocol}" and table.note
+    variants = {v.label for v in spec.variants}
+    scenarios = {s.label for s in spec.scenarios}
+    assert all(s.ref in scenario_names() for s in spec.scenarios)
+    for pv in table.paper:
+        assert pv.variant in variants and (pv.scenario is None or pv.scenario in scenarios), (name, pv)

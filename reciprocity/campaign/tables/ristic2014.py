@@ -66,7 +66,10 @@ lattice is kinder than the figure's stated properties.
 from G(η, θ) (Sec. 4.3) 54 % [44, 63]; M = 4000 ideal measurements 49 % [39, 59]; no
 anti-oscillation rule 9 % [5, 16] (the rule is essential); "stay" only when no move is
 admissible 78 % [69, 85]. The stay control is the one setting that matters: the one-step
-gain often prefers reading again where it stands. Two readings of the paper remain to be
+gain often prefers reading again where it stands. In the full set-up it does not carry over
+(``--experiment stay``: 34 % [25, 44] with stay, 33 % [25, 43] without; reached 41 % and
+51 %): the searcher reaches the source more often, but then fails to localise itself more
+often. Two readings of the paper remain to be
 measured: Algorithm 2 scores all five controls every step, whereas ``rbpf`` scores only
 moves along links not believed missing (a move into a believed wall is a wasted step, yet
 the paper does not exclude it); and the rung "unknown map, perfect self-localisation" is
