@@ -44,6 +44,12 @@ STAY = (
     ("3c. as 3, stay only when no move is admissible", {"stay": False}, {}),
 )
 
+#: The five controls of Algorithm 2 scored every step (``--experiment controls``).
+FIVE = (
+    ("1e. rung 1, all five controls scored", {**_KNOWN, "controls": "all"}, {"map": "known"}),
+    ("3e. the paper's set-up, all five controls scored", {"controls": "all"}, {}),
+)
+
 RUNGS = (
     ("1. map known, lattice field", {"map": "known", "field": "lattice"}, {"map": "known"}),
     ("1'. as 1, path planner", {"map": "known", "field": "lattice", "planner": "path"}, {"map": "known"}),
@@ -64,14 +70,14 @@ def main(argv=None) -> None:
     ap.add_argument("--runs", type=int, default=100)
     ap.add_argument("--source", default="0,7")
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--experiment", choices=("ladder", "control", "stay"), default="ladder",
+    ap.add_argument("--experiment", choices=("ladder", "control", "stay", "controls"), default="ladder",
                     help="the ladder, or rung 1 with one control setting changed at a time")
     args = ap.parse_args(argv)
     source = [int(v) for v in args.source.split(",")]
     print(f"source {tuple(source)}, {args.runs} runs per rung (seeds 0..{args.runs - 1})\n")
     print("| rung | success | 95 % CI | reached | mean steps (successes) |\n|---|---:|---|---:|---:|")
     with ProcessPoolExecutor(args.workers) as pool:
-        for label, params, world in {"ladder": RUNGS, "control": CONTROL, "stay": STAY}[args.experiment]:
+        for label, params, world in {"ladder": RUNGS, "control": CONTROL, "stay": STAY, "controls": FIVE}[args.experiment]:
             jobs = [(params, {**world, "source": source}, seed) for seed in range(args.runs)]
             out = list(pool.map(one, jobs))
             k = sum(o[0] for o in out)

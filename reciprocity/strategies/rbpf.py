@@ -90,6 +90,17 @@ class RBPFStrategy(Strategy):
         minimises the expected shortest-path distance over the believed map to the source
         particles (ties: the larger gain). No better than ``"gain"``
         (``benchmarks/lattice_beyond.md``).
+    controls : {"believed", "all"}
+        The controls scored each step: ``"believed"`` (default) stay and the moves along
+        links not believed missing (posterior >= 1/2); ``"all"``: the five controls of
+        Algorithm 2, line 2, every step (the paper's text).
+    map : {"unknown", "known"}
+        ``"unknown"`` (the paper): the map is estimated. ``"known"`` (an oracle for the
+        ladder of :mod:`reciprocity.campaign.tables.ristic2014`): the scenario's map
+        (``map: known``), held with certainty.
+    field : {"conformal", "lattice"}
+        The count model: eq. (25) (the paper), or the lattice's own field on the known map
+        (an oracle; needs ``map="known"``).
 
     Notes
     -----
@@ -102,7 +113,10 @@ class RBPFStrategy(Strategy):
     * a particle's failed or commanded move along a link it draws as missing
       (Bernoulli(q)) leaves it in place, as the true searcher does (eq. (45) is silent);
     * moves along links of probability exactly 1/2 are admissible, so the first move
-      (before any link was seen) is allowed; "stay" remains a control.
+      (before any link was seen) is allowed; "stay" remains a control;
+    * by default only stay and the moves along links not believed missing are scored
+      (``controls="believed"``); Algorithm 2's text scores all five every step
+      (``controls="all"``), which on the paper's lattice loses most runs.
     """
 
     name = "rbpf"
@@ -113,8 +127,13 @@ class RBPFStrategy(Strategy):
     def __init__(self, *, n_particles: int = 4000, n_gain: int = 400, eta0: float = 15.0, theta0: float = 1.0,
                  q0: float = 0.5, persistence: float = 0.999, ideal: str = "mean", regularise: bool = True,
                  min_distance: float = MIN_DISTANCE, loop_window: int = 10, loop_visits: int = 3,
-                 stay: bool = True, planner: str = "gain", map: str = "unknown", field: str = "conformal"):
+                 stay: bool = True, planner: str = "gain", map: str = "unknown", field: str = "conformal",
+                 controls: str = "believed"):
         super().__init__()
+        if controls not in ("believed", "all"):
+            raise SearchError(f"controls must be 'believed' (moves along links not believed missing) or 'all' "
+                              f"(the five controls of Algorithm 2, line 2); got {controls!r}")
+        self.controls = controls
         if map not in ("unknown", "known"):
             raise SearchError(f"map must be 'unknown' (the paper) or 'known' (an oracle: the scenario must say "
                               f"map: known); got {map!r}")
@@ -151,7 +170,7 @@ class RBPFStrategy(Strategy):
         return dict(n_particles=self.n_particles, n_gain=self.n_gain, eta0=self.eta0, theta0=self.theta0,
                     q0=self.q0, persistence=self.persistence, ideal=self.ideal, regularise=self.regularise,
                     min_distance=self.min_distance, loop_window=self.loop_window, loop_visits=self.loop_visits,
-                    stay=self.stay, planner=self.planner, map=self.map, field=self.field)
+                    stay=self.stay, planner=self.planner, map=self.map, field=self.field, controls=self.controls)
 
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
@@ -213,7 +232,7 @@ class RBPFStrategy(Strategy):
     def propose(self):
         if self.done:
             return None
-        ok = self.admissible()
+        ok = self.admissible() if self.controls == "believed" else np.ones(len(CONTROLS), dtype=bool)
         here = int(np.argmax(self.belief.node_weights()))
         recent = self.visits[-self.loop_window:]
         if recent.count(here) > self.loop_visits:

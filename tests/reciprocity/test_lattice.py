@@ -313,3 +313,22 @@ def test_rbpf_oracle_rungs_use_the_map_and_the_lattice_field():
     _, info = plain.reset(seed=0)
     with pytest.raises(SearchError, match="tells the map"):
         StrategyAgent(STRATEGIES["rbpf"], {"map": "known"}).reset(info["task"], info["agent_seed"])
+
+
+def test_rbpf_can_score_the_five_controls_of_algorithm_2():
+    from reciprocity.env import SearchEnv
+    from reciprocity.strategies import STRATEGIES
+    from reciprocity.strategies.agent import StrategyAgent
+    with pytest.raises(SearchError, match="controls must be"):
+        STRATEGIES["rbpf"](controls="some")
+    env = SearchEnv("ristic-lattice-paper")
+    _, info = env.reset(seed=0)
+    for controls, scored in (("all", 5), ("believed", None)):
+        agent = StrategyAgent(STRATEGIES["rbpf"], {"controls": controls, "n_particles": 200, "n_gain": 20})
+        agent.reset(info["task"], info["agent_seed"])
+        agent.act()
+        finite = int(np.isfinite(agent.strategy.gains).sum())
+        if scored is not None:
+            assert finite == scored
+        else:
+            assert finite == int(agent.strategy.admissible().sum())
