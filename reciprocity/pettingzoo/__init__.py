@@ -19,14 +19,11 @@ from pettingzoo import ParallelEnv
 from ..env import Rollout, SearchEnv
 from ..errors import SearchError
 from ..intents import Intent
-from ..observations import MessageLog
-from ..outcome import Stop, StopReason
+from ..outcome import StopReason
 from ..scenarios import load_scenario
 from ..strategies import STRATEGIES
 from ..strategies.agent import StrategyAgent
-from ..strategies.base import Status
-from ..task import Report
-from ..gym.env import SUCCESS_REWARD, end_reward
+from ..gym.env import SUCCESS_REWARD, DeclaringAgent, end_reward
 from ..gym.faces import STOP, face_for
 
 __all__ = ["parallel_env", "SearchParallelEnv", "TeamPolicy"]
@@ -38,40 +35,29 @@ def parallel_env(scenario="hajieghrary", agents: int | None = None, **kwargs) ->
     return SearchParallelEnv(scenario, agents=agents, **kwargs)
 
 
-class _TeamDeclaring:
-    """The environment's stand-in for outside policies: counts readings, declares the mean
-    of the stop actions' estimates (or of where the observers stand)."""
+class _TeamDeclaring(DeclaringAgent):
+    """The environment's stand-in for outside policies (:class:`~reciprocity.gym.DeclaringAgent`
+    for a team): declares the mean of the stop actions' estimates, or of where the observers
+    stand."""
 
     def __init__(self):
-        self.done = True
+        super().__init__("pettingzoo-policies")
 
     def reset(self, task, seed) -> None:
-        self.task, self.done, self.outcome, self.n = task, False, None, 0
+        super().reset(task, seed)
         self.positions = np.array(task.starts[:, :2], dtype=float)
         self.estimates: dict[int, np.ndarray] = {}
-        self.messages = MessageLog()
-
-    def act(self):
-        return ()
 
     def observe(self, percept, intent) -> None:
+        super().observe(percept, intent)
         if percept.unreachable is None and percept.observations:
-            self.n += len(percept.observations)
             self.positions[percept.agent] = percept.observations[-1].position
 
-    def status(self) -> Status:
-        return Status(None)
-
-    def stop(self, reason, detail) -> None:
-        if self.outcome is None:
-            self.outcome, self.done = Stop(reason, detail), True
-
     def report(self):
-        if self.outcome is None:
-            return None
-        est = np.mean(list(self.estimates.values()), axis=0) if self.estimates else self.positions.mean(axis=0)
-        return Report(strategy="pettingzoo-policies", estimate=est, stop=self.outcome, n_measurements=self.n,
-                      n_samples=self.n, messages=self.messages, agents=None)
+        if self.outcome is not None:
+            self.estimate = (np.mean(list(self.estimates.values()), axis=0) if self.estimates
+                             else self.positions.mean(axis=0))
+        return super().report()
 
 
 class SearchParallelEnv(ParallelEnv):
