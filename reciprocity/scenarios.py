@@ -37,7 +37,7 @@ from arenas.poses import pose_from_degrees
 from .errors import SearchError
 from .registry import LazyRegistry
 from .seeds import EpisodeSeeds
-from .validation import MAX_COORD, number, whole
+from .validation import MAX_AGENTS, MAX_COORD, number, whole
 
 __all__ = ["Scenario", "WorldKind", "WORLD_KINDS", "check_keys", "register_world", "load_scenario",
            "scenario_names", "scenario_description"]
@@ -45,8 +45,6 @@ __all__ = ["Scenario", "WorldKind", "WORLD_KINDS", "check_keys", "register_world
 #: Keys every scenario file may have; the rest are the world's own parameters.
 COMMON_KEYS = ("name", "description", "world", "platform", "start", "success_radius",
                "max_steps", "agents")
-#: Most observers of one episode.
-MAX_AGENTS = 64
 #: Largest step cap of one episode.
 MAX_STEPS = 1_000_000
 

@@ -25,6 +25,8 @@ MAX_COORD = 1e5
 #: Most cells or nodes of any grid a world or a strategy builds (a float64 array of this
 #: size is 32 MB; dense models keep a few such arrays).
 MAX_CELLS = 4_000_000
+#: Most observers of one episode (scenario files, campaign specs, the command line).
+MAX_AGENTS = 64
 
 
 def _fmt(x: float) -> str:

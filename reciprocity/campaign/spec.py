@@ -76,6 +76,7 @@ from arenas.files import load_yaml, read_text
 from arenas.poses import pose_from_degrees
 
 from ..errors import SearchError
+from ..validation import MAX_AGENTS
 from ..scenarios import Scenario, load_scenario, scenario_names
 from .cluster import TLSFiles, check_address
 
@@ -96,8 +97,6 @@ MAX_SEEDS = 100_000
 MAX_EPISODES = 1_000_000
 #: Most (scenario, strategy variant) pairs: each is checked before the first episode.
 MAX_PAIRS = 10_000
-#: Most observers of an episode.
-MAX_AGENTS = 64
 #: Largest campaign seed.
 MAX_SEED = 2**63 - 1
 

@@ -21,6 +21,8 @@ Parameters (all optional except ``bounds`` and ``source``)::
     max_hits: null                # hit counts >= max_hits are one outcome (otto); "auto"
     initial_hit: random           # drawn source: the forced first hit (>= 1), or a count
     mismatch: {rate_factor: 1.5}  # truth differs from the nominal model
+    sensors: [{}, {gain: 0}]      # observer k's sensor fault (truth; no strategy is told):
+                                  # gain, false_rate (hits per unit time), fails_at (time)
 
 ``source: drawn`` is otto's protocol (Loisy & Eloy 2022): the observer starts at the
 centre cell of the grid after a forced first hit ``h0 >= 1`` (drawn as otto draws it,
@@ -37,15 +39,15 @@ from scipy.stats import poisson
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
-from ..validation import MAX_CELLS, MAX_COORD, Bound, point, starts_in_box, whole
-from ..worlds.plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, plume_length
+from ..validation import MAX_AGENTS, MAX_CELLS, MAX_COORD, Bound, point, starts_in_box, whole
+from ..worlds.plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, SensorFault, plume_length
 
 __all__ = ["PLUME", "PLUME_KEYS", "hit_probabilities", "otto_max_hits", "otto_initial_hit_probabilities"]
 
 #: Parameters of a ``plume`` scenario.
 PLUME_KEYS = ("bounds", "source", "rate", "a", "D", "tau", "V", "wind_direction", "form", "dt",
               "found_radius", "motion", "step", "max_turn", "n_turns", "moves", "max_hits",
-              "initial_hit", "mismatch")
+              "initial_hit", "mismatch", "sensors")
 MOTIONS = ("turn", "grid", "reach")
 
 
@@ -153,6 +155,12 @@ def _check(params: dict) -> dict:
     if not isinstance(m, dict):
         raise SearchError(f"plume mismatch must be a mapping of options; got {m!r}")
     out["mismatch"] = PlumeMismatch.from_dict(m)
+    sensors = params.get("sensors") or []
+    if not isinstance(sensors, (list, tuple)) or len(sensors) > MAX_AGENTS:
+        raise SearchError(f"plume sensors must be a list with one mapping per observer (at most {MAX_AGENTS}); "
+                          f"got {sensors!r}")
+    out["sensors"] = tuple(f if isinstance(f, SensorFault) else SensorFault.from_dict(f, f"plume sensors[{k}]")
+                           for k, f in enumerate(sensors))
     return out
 
 
@@ -201,7 +209,8 @@ def _build(params: dict, rng: np.random.Generator) -> PlumeWorld:
         extra["initial_hit"] = int(h0)
         extra["first_hit_at"] = centre.tolist()
     return PlumeWorld(params["bounds"], source, p, mismatch=params["mismatch"],
-                      found_radius=params["found_radius"], grid=grid, nominal_extra=extra)
+                      found_radius=params["found_radius"], grid=grid, nominal_extra=extra,
+                      sensors=params.get("sensors", ()))
 
 
 def _default_start(world: PlumeWorld, rng: np.random.Generator) -> np.ndarray:

@@ -80,7 +80,7 @@ class LatticePlatform(Platform):
                 self.path_length += 1.0
         self.pose = np.array([self.pose[0] + u[0], self.pose[1] + u[1], 0.0])
         self.last_route.append(self.true_position.copy())
-        r = self.world.read(self.true_position, time=self.time, dwell=1.0, rng=self.rng)
+        r = self.world.read(self.true_position, time=self.time, dwell=1.0, rng=self.rng, observer=self.agent)
         obs = Observation(self.pose[:2].copy(), r.value, self.time, 1.0, r.kind, r.saturated,
                           self.agent, r.data)
         self.time += 1.0

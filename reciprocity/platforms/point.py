@@ -102,7 +102,7 @@ class PointPlatform(Platform):
         self.pose = np.array([p[0], p[1], heading % (2 * np.pi)])
 
     def _read(self, kind: str) -> Observation:
-        r = self.world.read(self.pose[:2], time=self.time, dwell=self.dwell, rng=self.rng)
+        r = self.world.read(self.pose[:2], time=self.time, dwell=self.dwell, rng=self.rng, observer=self.agent)
         obs = Observation(self.pose[:2].copy(), r.value, self.time, self.dwell, r.kind if kind == "signal"
                           else kind, r.saturated, self.agent, r.data)
         self.time += self.dwell

@@ -84,7 +84,7 @@ class WalkerPlatform(Platform):
             # the walker reports where it was sent (it does not know it slipped)
             self.pose = np.array([target[0], target[1], heading % (2 * np.pi)])
             self.last_route.append(self._true.copy())
-        r = self.world.read(self._true, time=self.time, dwell=self.dt, rng=self.rng)
+        r = self.world.read(self._true, time=self.time, dwell=self.dt, rng=self.rng, observer=self.agent)
         obs = Observation(self.pose[:2].copy(), r.value, self.time, self.dt, r.kind, r.saturated,
                           self.agent, r.data)
         self.time += self.dt

@@ -27,7 +27,8 @@ and takes the lowest score (the first on ties, as otto does):
 ``voi``
     Hajieghrary, Mox & Hsieh (2017, papers/001): N searchers, one belief each, infotaxis
     moves; each reading is offered to the others (``share="all"``) or only to those for
-    which its value of information passes a threshold (``share="voi"``, Section 3.3.2).
+    which its value of information passes a threshold (``share="voi"``, Section 3.3.2),
+    or kept (``share="none"``: independent searchers, the team baseline).
 
 Moves depend on the world's motion (``nominal["motion"]``): ``turn`` (a unit step after
 a heading change among ``n_turns`` values within ``±max_turn`` degrees, papers/002
@@ -326,7 +327,8 @@ class VoIInfotaxis(Strategy):
     Every searcher keeps its own particle belief and takes infotaxis moves on it. Each
     reading is an event ``(r, z)``; with ``share="all"`` every event goes to every other
     searcher (Section 3.3.1); with ``share="voi"`` a searcher incorporates a teammate's
-    event only when its value of information passes `threshold` (Section 3.3.2). The
+    event only when its value of information passes `threshold` (Section 3.3.2); with
+    ``share="none"`` the searchers are independent (no messages). The
     paper names two factors, how probable the event is under the receiver's belief and
     how much it changes it, without a formula; we take their product,
     ``VoI = P_A(z at r) · KL(post_A || prior_A)`` (nats), the event's share of the
@@ -335,7 +337,7 @@ class VoIInfotaxis(Strategy):
 
     Parameters
     ----------
-    share : {"all", "voi"}
+    share : {"all", "voi", "none"}
     threshold : float
         VoI threshold (nats).
     particles, resample_below, mcmc_steps, eta
@@ -348,8 +350,8 @@ class VoIInfotaxis(Strategy):
 
     def __init__(self, *, share: str = "voi", threshold: float = 0.01, particles: int = 600,
                  resample_below: float = 1 / 3, mcmc_steps: int = 1, eta: float = 1e-3):
-        if share not in ("all", "voi"):
-            raise SearchError(f"share must be 'all' or 'voi'; got {share!r}")
+        if share not in ("all", "voi", "none"):
+            raise SearchError(f"share must be 'all', 'voi' or 'none'; got {share!r}")
         self.share = share
         self.threshold = positive(threshold, "threshold")
         self._single = dict(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
@@ -393,7 +395,7 @@ class VoIInfotaxis(Strategy):
         own.observe(observations, intent, 0)
         self.n_measurements += len(observations)
         self.n_samples += len(observations)
-        for obs in observations:
+        for obs in observations if self.share != "none" else ():
             takers = []
             for k, s in enumerate(self.searchers):
                 if k == agent:

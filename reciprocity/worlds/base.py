@@ -53,8 +53,9 @@ class World(ABC):
 
     @abstractmethod
     def read(self, position: np.ndarray, *, time: float, dwell: float,
-             rng: np.random.Generator) -> Reading:
-        """The sensor's reading at `position` over ``[time, time + dwell]``."""
+             rng: np.random.Generator, observer: int = 0) -> Reading:
+        """The sensor's reading at `position` over ``[time, time + dwell]``, by observer
+        number `observer` (worlds whose observers' sensors differ, e.g. a faulty one)."""
 
     @abstractmethod
     def contains(self, points: np.ndarray) -> np.ndarray:

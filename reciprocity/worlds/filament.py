@@ -226,7 +226,8 @@ class FilamentWorld(World):
         self.plume.advance_to(self.p.spinup)
         self._offset = self.plume.time
 
-    def read(self, position, *, time: float, dwell: float, rng: np.random.Generator) -> Reading:
+    def read(self, position, *, time: float, dwell: float, rng: np.random.Generator,
+             observer: int = 0) -> Reading:
         """Advance the plume to `time` (s after the start) and read at `position`:
         value 1 if the concentration exceeds the threshold, else 0; ``data`` holds the
         local wind ``{"wind": [u_x, u_y]}`` (m/s)."""

@@ -26,7 +26,9 @@ Without wind (``V = 0``, ``λ = sqrt(D τ)``) both reduce to the grid model of o
 & Eloy 2022): ``μ(d) = R Δt · K0(d/λ) / ln(λ/a)`` with ``a = Δx/2``.
 
 The world can differ from what a strategy is told (:class:`PlumeMismatch`: the true rate,
-wind, diffusivity and lifetime as multiples of the nominal ones).
+wind, diffusivity and lifetime as multiples of the nominal ones), and each observer's
+sensor can be faulty (:class:`SensorFault`: a gain, false alarms, a failure time), which
+no strategy is told either.
 """
 
 from __future__ import annotations
@@ -40,7 +42,7 @@ from ..models.plume import FORMS, PlumeParams, plume_length, plume_rate
 from ..validation import number
 from .base import Reading, World
 
-__all__ = ["FORMS", "PlumeParams", "PlumeMismatch", "PlumeWorld", "plume_length", "plume_rate"]
+__all__ = ["FORMS", "PlumeParams", "PlumeMismatch", "SensorFault", "PlumeWorld", "plume_length", "plume_rate"]
 
 @dataclass(frozen=True)
 class PlumeMismatch:
@@ -77,6 +79,57 @@ class PlumeMismatch:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
+@dataclass(frozen=True)
+class SensorFault:
+    """How one observer's hit counter differs from the nominal one (defaults: healthy).
+
+    Over a dwell ``Δt`` starting at time ``t`` the faulty counter reads
+    ``Poisson(gain · R(r | r0) · Δt + false_rate · Δt)`` while ``t < fails_at``, and 0
+    from then on (a dead sensor).
+
+    Attributes
+    ----------
+    gain : float
+        True hits counted, as a fraction of those met (0: a dead sensor; above 1: double
+        counting).
+    false_rate : float
+        Spurious hits per unit time, wherever the observer is.
+    fails_at : float or None
+        Time from which the sensor reads nothing (None: never fails).
+    """
+
+    gain: float = 1.0
+    false_rate: float = 0.0
+    fails_at: float | None = None
+
+    @classmethod
+    def from_dict(cls, d, where: str = "sensor") -> "SensorFault":
+        if not isinstance(d, dict):
+            raise SearchError(f"{where} must be a mapping of gain, false_rate, fails_at; got {d!r}")
+        names = [f.name for f in fields(cls)]
+        unknown = set(d) - set(names)
+        if unknown:
+            raise SearchError(f"unknown {where} option(s) {', '.join(sorted(unknown))}; "
+                              f"choose from {', '.join(names)}")
+        out = {k: number(d[k], f"{where} {k}", 0.0, 1e6) for k in ("gain", "false_rate") if k in d}
+        if d.get("fails_at") is not None:
+            out["fails_at"] = number(d["fails_at"], f"{where} fails_at", 0.0, 1e9)
+        return cls(**out)
+
+    @property
+    def healthy(self) -> bool:
+        return self == SensorFault()
+
+    def mean(self, true_mean: float, *, time: float, dwell: float) -> float:
+        """The faulty counter's mean count given the true mean `true_mean` over the dwell."""
+        if self.fails_at is not None and time >= self.fails_at:
+            return 0.0
+        return self.gain * true_mean + self.false_rate * dwell
+
+    def as_dict(self) -> dict:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
 class PlumeWorld(World):
     """A source in a rectangle, read by a hit counter (the truth of ``plume`` scenarios).
 
@@ -96,12 +149,16 @@ class PlumeWorld(World):
         Cell size when observers move on a grid of cell centres (otto), else None.
     nominal_extra : dict
         Further keys of :meth:`nominal` (motion, dt, initial hit, hit-count cap).
+    sensors : sequence of SensorFault, optional
+        Observer k's sensor fault, as observer k's start in a scenario's ``start`` list:
+        observers beyond the list are healthy, entries beyond the observers unused.
     """
 
     kind = "plume"
 
     def __init__(self, bounds, source, params: PlumeParams, *, mismatch: PlumeMismatch | None = None,
-                 found_radius: float = 1.0, grid: float | None = None, nominal_extra: dict | None = None):
+                 found_radius: float = 1.0, grid: float | None = None, nominal_extra: dict | None = None,
+                 sensors=()):
         self.bounds = tuple(tuple(float(v) for v in b) for b in bounds)
         self.source = np.asarray(source, dtype=float).reshape(2)
         self.params = params
@@ -110,13 +167,16 @@ class PlumeWorld(World):
         self.found_radius = float(found_radius)
         self.grid = grid
         self._extra = dict(nominal_extra or {})
+        self.sensors = tuple(sensors)
 
     def rate(self, at) -> np.ndarray:
         """True mean hit rate at `at` (m, 2), shape (m,)."""
         return plume_rate(at, self.source[None], self.truth)[:, 0]
 
-    def read(self, position, *, time, dwell, rng) -> Reading:
+    def read(self, position, *, time, dwell, rng, observer: int = 0) -> Reading:
         mu = float(self.rate(np.asarray(position, dtype=float)[None])[0]) * float(dwell)
+        if observer < len(self.sensors):
+            mu = self.sensors[observer].mean(mu, time=float(time), dwell=float(dwell))
         return Reading(float(rng.poisson(mu)), False, "hits")
 
     def contains(self, points) -> np.ndarray:
@@ -129,5 +189,8 @@ class PlumeWorld(World):
                     grid=self.grid, **self._extra)
 
     def describe(self) -> dict:
-        return dict(plume=self.params.as_dict(), mismatch=self.mismatch.as_dict(),
-                    found_radius=self.found_radius, initial_hit=self._extra.get("initial_hit"))
+        out = dict(plume=self.params.as_dict(), mismatch=self.mismatch.as_dict(),
+                   found_radius=self.found_radius, initial_hit=self._extra.get("initial_hit"))
+        if any(not f.healthy for f in self.sensors):
+            out["sensors"] = [f.as_dict() for f in self.sensors]
+        return out

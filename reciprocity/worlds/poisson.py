@@ -168,7 +168,7 @@ class PoissonWorld(World):
         return self._field
 
     def read(self, position, *, time: float = 0.0, dwell: float = 0.0,
-             rng: np.random.Generator) -> Reading:
+             rng: np.random.Generator, observer: int = 0) -> Reading:
         value = float(self.field(np.asarray(position, dtype=float)[None, :2])[0])
         if not np.isfinite(value):
             raise SearchError(f"position ({position[0]:.4g}, {position[1]:.4g}) is not in the free region")

@@ -67,6 +67,28 @@ def test_poisson_hits_have_the_rate_as_mean_and_variance():
     assert abs(z.var(ddof=1) - mu) < 4 * np.sqrt((mu + 2 * mu * mu) / n)
 
 
+@pytest.mark.parametrize("fault, mean", [
+    ({"gain": 0.0}, lambda mu, t: 0.0),
+    ({"gain": 0.5, "false_rate": 0.3}, lambda mu, t: 0.5 * mu + 0.3),
+    ({"fails_at": 10.0}, lambda mu, t: mu if t < 10 else 0.0),
+])
+def test_a_faulty_sensor_counts_gain_times_the_hits_plus_false_alarms(fault, mean):
+    from reciprocity.worlds.plume import SensorFault
+    w = PlumeWorld(((-50, 50), (-50, 50)), [0, 0], SONG, sensors=[SensorFault(), SensorFault.from_dict(fault)])
+    rng = np.random.default_rng(11)
+    n, p = 4000, np.array([15.0, 2.0])
+    mu = w.rate(p[None])[0]
+    for t in (0.0, 20.0):
+        healthy = np.array([w.read(p, time=t, dwell=1.0, rng=rng, observer=0).value for _ in range(n)])
+        faulty = np.array([w.read(p, time=t, dwell=1.0, rng=rng, observer=1).value for _ in range(n)])
+        beyond = np.array([w.read(p, time=t, dwell=1.0, rng=rng, observer=2).value for _ in range(n)])
+        for z, m in ((healthy, mu), (faulty, mean(mu, t)), (beyond, mu)):
+            # the sample mean of n Poisson(m) counts: sd sqrt(m / n)
+            assert abs(z.mean() - m) < 4 * np.sqrt(max(m, 1e-12) / n) + 1e-12
+    assert w.nominal() == PlumeWorld(((-50, 50), (-50, 50)), [0, 0], SONG).nominal()
+    assert w.describe()["sensors"][1] == {**SensorFault().as_dict(), **fault}
+
+
 def test_mismatch_changes_the_truth_not_the_nominal_model():
     from reciprocity.worlds.plume import PlumeMismatch
     w = PlumeWorld(((-50, 50), (-50, 50)), [0, 0], SONG, mismatch=PlumeMismatch(rate_factor=3.0))
@@ -185,6 +207,17 @@ def test_voi_team_shares_messages_and_voi_sends_fewer():
     assert some.summary["messages"] <= every.summary["messages"]
     solo = run(sc, "voi", seed=1, agents=1, params=QUICK).summary
     assert solo["messages"] == 0
+    alone = run(sc, "voi", seed=1, params=dict(QUICK, share="none"))
+    assert alone.summary["n_agents"] == 3 and alone.summary["messages"] == 0
+
+
+def test_a_dead_sensor_reads_nothing_in_a_team_run():
+    sc = replace(load_scenario("hajieghrary-dead-sensor"), max_steps=300)
+    ep = run(sc, "voi", seed=2, params=dict(QUICK, share="none"))
+    reads = [(o.agent, o.value) for rec in ep.records for o in rec.observations]
+    assert {a for a, _ in reads} == {0, 1, 2}
+    assert all(v == 0 for a, v in reads if a == 2)
+    assert ep.summary["sensors"][2]["gain"] == 0
 
 
 # -- bad input ----------------------------------------------------------------------------
@@ -194,6 +227,11 @@ def test_voi_team_shares_messages_and_voi_sends_fewer():
     ({"rate": 0}, "plume rate must be a number in"), ({"source": [90, 0]}, "outside the area"),
     ({"form": "gauss"}, "form must be one of"), ({"mismatch": {"rate_factor": 0}}, r"in \(0, 1000\]"),
     ({"mismatch": {"speed": 2}}, "unknown plume mismatch"), ({"a": 10}, "must exceed the sensor radius"),
+    ({"sensors": {"gain": 0}}, "plume sensors must be a list"), ({"sensors": [{}] * 65}, "at most 64"),
+    ({"sensors": [{"gain": -1}]}, r"plume sensors\[0\] gain must be a number in \[0, 1e\+06\]"),
+    ({"sensors": [{}, {"drift": 1}]}, r"unknown plume sensors\[1\] option\(s\) drift"),
+    ({"sensors": [7]}, r"plume sensors\[0\] must be a mapping"),
+    ({"sensors": [{"fails_at": "soon"}]}, "fails_at must be a number"),
 ])
 def test_bad_world_parameters_raise_one_line_errors(override, match):
     with pytest.raises(SearchError, match=match) as exc:

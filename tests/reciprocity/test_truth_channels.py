@@ -176,3 +176,23 @@ def test_the_evaluator_classifies_the_source_on_the_true_walls():
     assert open_env.platforms[0].reachable(src)[0] and shut.platforms[0].reachable(src)[0]   # the map
     assert open_env._source_reachable is True
     assert shut._source_reachable is False                                                # the walls
+
+
+@pytest.mark.parametrize("faulty", ["hajieghrary-dead-sensor", "hajieghrary-false-alarms"])
+def test_a_faulty_sensor_is_told_to_no_strategy(faulty):
+    """The sensor faults are truth: the task of a faulty world is the matched world's, and
+    the team's first moves are the same (they differ only once a faulty reading arrives)."""
+    from reciprocity.env import SearchEnv
+    from reciprocity.strategies import STRATEGIES
+    from reciprocity.strategies.agent import StrategyAgent
+    tasks, actions = [], []
+    for scenario in ("hajieghrary", faulty):
+        env = SearchEnv(scenario)
+        _, info = env.reset(seed=3)
+        agent = StrategyAgent(STRATEGIES["voi"], {"particles": 200, "share": "all"})
+        agent.reset(info["task"], info["agent_seed"])
+        # the scenario's name is a label, the same for every world it names
+        tasks.append({k: v for k, v in _public(info["task"]).items() if k != "scenario"})
+        actions.append(agent.act())
+    assert tasks[0] == tasks[1], "the task tells the strategy about the sensor faults"
+    assert _same(actions[0], actions[1])

@@ -10,7 +10,8 @@ it):
 - :mod:`.song2019` — ``song2019-table1`` (free-energy infotaxis and its peers, papers/002);
 - :mod:`.otto` — ``otto-2d`` (grid infotaxis, otto's 2-D protocol);
 - :mod:`.hajieghrary` — ``hajieghrary-voi`` (three searchers sharing by value of
-  information, papers/001);
+  information, papers/001) and ``hajieghrary-misleading`` (the same teams when one
+  searcher's sensor is wrong);
 - :mod:`.farrell2003` — ``farrell-hmm`` (hidden-Markov plume mapping, papers/003, and
   its Figs. 5–8).
 """
