@@ -8,6 +8,9 @@ part β of eq. (15)), and, analytically, the probability of existence of every l
 All particles see the same counts, so the shape η is one number; θ, q, the source and
 the searcher node are per particle. Arrays: ``source`` (N, 2), ``node`` (N,), ``theta``
 (N,), ``q`` (N, L) float32.
+
+A reading that carries a position fix (``data["fix"]``: the lattice world's oracle
+``localisation: known``) puts every particle's searcher node there before it is weighed.
 """
 
 from __future__ import annotations
@@ -176,6 +179,10 @@ class RBPFBelief(Belief):
         """Weigh, update the sufficient statistics, resample (Algorithm 1, lines 7–18)."""
         count = float(obs.value)
         data = obs.data or {}
+        if data.get("fix") is not None:       # a position sensor (an oracle): the node is known
+            fix = int(self.space.index_of(np.asarray(data["fix"], dtype=float))[0])
+            if fix >= 0:
+                self.node[:] = fix
         z1 = np.asarray(data.get("primary", [-1] * 4), dtype=int)
         z2 = np.asarray(data.get("secondary", [-1] * 4), dtype=int)
         c = self.c()

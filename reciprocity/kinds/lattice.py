@@ -15,7 +15,7 @@ __all__ = ["LATTICE", "LATTICE_KEYS", "MIN_RADIUS", "MAX_RADIUS"]
 
 #: Parameters of a ``lattice`` scenario.
 LATTICE_KEYS = ("radius", "p", "source", "strength", "entry", "slip", "primary", "secondary",
-                "connectivity", "lattice_seed", "map", "links")
+                "connectivity", "lattice_seed", "map", "localisation", "links")
 #: Smallest lattice radius accepted.
 MIN_RADIUS = 2
 #: Largest lattice radius accepted (about 32,000 nodes and 64,000 links).
@@ -90,6 +90,11 @@ def _check(params: dict) -> dict:
         raise SearchError(f"map must be 'unknown' (the searcher knows only the complete lattice, the "
                           f"paper) or 'known' (it is told which links exist); got {mp!r}")
     out["map"] = mp
+    loc = params.get("localisation", "unknown")
+    if loc not in ("unknown", "known"):
+        raise SearchError(f"localisation must be 'unknown' (the searcher estimates its own node, the paper) or "
+                          f"'known' (each reading carries the true node: an oracle); got {loc!r}")
+    out["localisation"] = loc
     links = params.get("links")
     if links is not None:
         if ls is not None:
@@ -150,7 +155,8 @@ def _build(params: dict, rng: np.random.Generator) -> LatticeWorld:
         present, draws = draw_links(full, params["p"], rng, connectivity=params["connectivity"], keep=tuple(keep))
     return LatticeWorld(full.with_links(present), params["source"], params["strength"],
                         primary=params["primary"], secondary=params["secondary"], p=params["p"],
-                        slip=params["slip"], draws=draws, map_known=params.get("map") == "known")
+                        slip=params["slip"], draws=draws, map_known=params.get("map") == "known",
+                        localisation_known=params.get("localisation") == "known")
 
 
 def _starts_on_lattice(params: dict, starts: np.ndarray) -> None:

@@ -142,6 +142,11 @@ class LatticeWorld(World):
     map_known : bool
         Tell strategies which links exist (``nominal()["links"]``, the scenario's
         ``map: known``); False (the paper): they are told only the complete lattice.
+    localisation_known : bool
+        Every reading carries the node it was taken at (``data["fix"]``, the scenario's
+        ``localisation: known``): an oracle position sensor for the ladder of
+        :mod:`reciprocity.campaign.tables.ristic2014`. False (the paper): the searcher
+        knows only its start and the controls it commanded.
     """
 
     kind = "lattice"
@@ -149,13 +154,14 @@ class LatticeWorld(World):
 
     def __init__(self, space: LatticeSpace, source, strength: float, *, primary=(1.0, 0.0),
                  secondary=(0.8, 0.1), p: float | None = None, slip: float = 0.04, draws: int = 1,
-                 map_known: bool = False):
+                 map_known: bool = False, localisation_known: bool = False):
         self.space = space
         self.source = np.asarray(source, dtype=float).reshape(2)
         self.strength = float(strength)
         self.primary, self.secondary = tuple(map(float, primary)), tuple(map(float, secondary))
         self.p, self.slip, self.draws = p, float(slip), int(draws)
         self.map_known = bool(map_known)
+        self.localisation_known = bool(localisation_known)
         self.source_node = int(space.index_of(self.source)[0])
         self.lam = self.strength * green_row(space, self.source_node)
         self._second = space.second_link_of
@@ -184,18 +190,23 @@ class LatticeWorld(World):
         z2[~m1] = -1
         return z1, z2
 
-    def read(self, position, *, time: float, dwell: float, rng: np.random.Generator) -> Reading:
+    def read(self, position, *, time: float, dwell: float, rng: np.random.Generator,
+             observer: int = 0) -> Reading:
         node = int(self.space.index_of(position)[0])
         if node < 0:
             raise SearchError(f"({position[0]:g}, {position[1]:g}) is not a lattice node")
         n = int(rng.poisson(self.lam[node] * max(dwell, 0.0)))
         z1, z2 = self.links_seen(node, rng)
-        return Reading(float(n), False, "hits", {"primary": z1.tolist(), "secondary": z2.tolist()})
+        data = {"primary": z1.tolist(), "secondary": z2.tolist()}
+        if self.localisation_known:
+            data["fix"] = self.space.points[node].tolist()
+        return Reading(float(n), False, "hits", data)
 
     def nominal(self) -> dict:
         full = LatticeSpace(self.space.radius)
         out = dict(space=full, radius=self.space.radius, primary=self.primary,
-                   secondary=self.secondary, p=self.p, slip=self.slip)
+                   secondary=self.secondary, p=self.p, slip=self.slip,
+                   localisation="known" if self.localisation_known else "unknown")
         if self.map_known:
             out["links"] = self.space.present.copy()      # the map, never the source
         return out
@@ -212,4 +223,5 @@ class LatticeWorld(World):
 
     def describe(self) -> dict:
         return dict(strength=self.strength, missing_links=int((~self.space.present).sum()),
-                    lattice_draws=self.draws, map_known=self.map_known)
+                    lattice_draws=self.draws, map_known=self.map_known,
+                    localisation_known=self.localisation_known)

@@ -222,6 +222,7 @@ def test_episode_through_api_has_contract_keys():
     ({"strength": -3}, "release rate A0 in \\(0, 1e\\+06\\]"),
     ({"start": [0.5, 0]}, "not a lattice node"),
     ({"lattice_seed": -1}, "lattice_seed"),
+    ({"localisation": "gps"}, "localisation must be 'unknown'"),
 ])
 def test_bad_world_input_is_one_line_error(world, match):
     with pytest.raises(SearchError, match=match) as exc:
@@ -332,3 +333,22 @@ def test_rbpf_can_score_the_five_controls_of_algorithm_2():
             assert finite == scored
         else:
             assert finite == int(agent.strategy.admissible().sum())
+
+
+def test_a_position_fix_is_an_oracle_the_scenario_must_ask_for():
+    """localisation: known (rung 3 of the ladder): every reading carries the true node, and
+    the RBPF puts every searcher-node particle there; without it no reading carries one."""
+    plain, fixed = _world(1), _world(1, localisation="known")
+    rng = np.random.default_rng(0)
+    node = [2.0, -1.0]
+    assert "fix" not in plain.read(node, time=0, dwell=1, rng=rng).data
+    assert plain.nominal()["localisation"] == "unknown" and fixed.nominal()["localisation"] == "known"
+    r = fixed.read(node, time=0, dwell=1, rng=rng)
+    assert r.data["fix"] == node
+    b = _belief(400)
+    b.node[:] = int(b.space.index_of([0, 0])[0])
+    b.update(Observation([0, 0], r.value, kind="hits", data={**r.data, "primary": [-1] * 4, "secondary": [-1] * 4}))
+    assert np.all(b.node == b.space.index_of(node)[0])
+    s = run("ristic-lattice-paper", "rbpf", seed=2, params={"n_particles": 200, "n_gain": 20},
+            world={"localisation": "known", "source": [2, -5]}).summary
+    assert s["localisation_known"] is True
