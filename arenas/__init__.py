@@ -7,21 +7,20 @@ sensor and its calibration, the pymunk micro-car, the overhead ArUco camera, and
 :class:`Testbed`, which puts them together.
 """
 
-from .camera import Observation, OverheadCamera
-from .car import Car, CarSpec, car_footprint
-from .errors import ArenaError
-from .floor import FLOOR_FORMAT, Floor, GreyMapping, render_floor
-from .frames import pixel_to_world, world_to_pixel
-from .geometry import DEFAULT_STRENGTH, Arena, as_points
-from .image import from_image
-from .io import builtin_description, builtin_names, from_dict, load, save, to_dict
-from .sensor import ADC_MAX, CALIBRATION_GREYS, AdcCurve, Calibration, ReflectanceSensor
-from .testbed import Measurement, Testbed, dead_reckon
+# The names below are imported on first use (PEP 562, via lazy_loader as in
+# scikit-image): the camera pulls in OpenCV, the car pymunk and the sensor
+# scipy.interpolate, and a command that only lists arenas needs none of them.
+import lazy_loader as _lazy
 
-__all__ = [
-    "ADC_MAX", "CALIBRATION_GREYS", "DEFAULT_STRENGTH", "FLOOR_FORMAT", "AdcCurve", "Arena",
-    "ArenaError", "Calibration", "Car", "CarSpec", "Floor", "GreyMapping", "Observation",
-    "Measurement", "OverheadCamera", "ReflectanceSensor", "Testbed", "dead_reckon", "as_points", "builtin_description",
-    "builtin_names", "car_footprint", "from_dict", "from_image", "load", "pixel_to_world",
-    "render_floor", "save", "to_dict", "world_to_pixel",
-]
+__getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={
+    "camera": ["Observation", "OverheadCamera"],
+    "car": ["Car", "CarSpec", "car_footprint"],
+    "errors": ["ArenaError"],
+    "floor": ["FLOOR_FORMAT", "Floor", "GreyMapping", "render_floor"],
+    "frames": ["pixel_to_world", "world_to_pixel"],
+    "geometry": ["DEFAULT_STRENGTH", "Arena", "as_points"],
+    "image": ["from_image"],
+    "io": ["builtin_description", "builtin_names", "from_dict", "load", "save", "to_dict"],
+    "sensor": ["ADC_MAX", "CALIBRATION_GREYS", "AdcCurve", "Calibration", "ReflectanceSensor"],
+    "testbed": ["Measurement", "Testbed", "dead_reckon"],
+})

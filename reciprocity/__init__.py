@@ -6,30 +6,25 @@ strategy plugs into: worlds (truth), models and beliefs (inference), search spac
 intents, platforms, episodes and scenarios.
 """
 
-from .api import check, execute, run
-from .beliefs import Belief, Predictive
-from .episode import SUMMARY_KEYS, Episode, StepRecord
-from .errors import MeshError, ReciprocityError, SearchError, UnreachableTarget
-from .fem import Field, GreenSolver, disk_green, free_space_green, mesh_free_region, reentrant_corners
-from .imaging import COMBINATIONS, ImagingMap, superlevel_area
-from .intents import Intent, Measure, Move, SampleGradient, Stay, StepToward
-from .observations import Message, MessageLog, Observation
-from .outcome import Stop, StopReason
-from .platforms import Platform, PointPlatform, WalkerPlatform
-from .scenarios import Scenario, load_scenario, scenario_names
-from .spaces import GridSpace, MeshSpace, SearchSpace
-from .strategies import (STRATEGIES, GradientStrategy, RandomWalkStrategy, ReciprocityStrategy,
-                         SearchContext, Strategy, three_point_gradient)
-from .worlds import Mismatch, PoissonWorld, World
+# The names below are imported on first use (PEP 562, via lazy_loader as in
+# scikit-image): the FEM solver, the arenas' camera and car, and the strategies'
+# numba kernels cost a second and 250 MB, which `reciprocity --help` never needs.
+import lazy_loader as _lazy
 
-__all__ = [
-    "Belief", "COMBINATIONS", "Episode", "Field", "GradientStrategy", "GreenSolver", "GridSpace",
-    "ImagingMap", "Intent", "Measure", "MeshError", "MeshSpace", "Message", "MessageLog", "Mismatch",
-    "Move", "Observation", "Platform", "PointPlatform", "PoissonWorld", "Predictive",
-    "RandomWalkStrategy", "ReciprocityError", "ReciprocityStrategy", "STRATEGIES", "SUMMARY_KEYS",
-    "SampleGradient", "Scenario", "SearchContext", "SearchError", "SearchSpace", "Stay", "StepRecord",
-    "StepToward", "Stop", "StopReason", "Strategy", "UnreachableTarget", "WalkerPlatform", "World",
-    "check", "disk_green", "execute", "free_space_green", "load_scenario", "mesh_free_region",
-    "reentrant_corners", "run", "scenario_names", "superlevel_area",
-    "three_point_gradient",
-]
+__getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={
+    "api": ["check", "execute", "run"],
+    "beliefs": ["Belief", "Predictive"],
+    "episode": ["SUMMARY_KEYS", "Episode", "StepRecord"],
+    "errors": ["MeshError", "ReciprocityError", "SearchError", "UnreachableTarget"],
+    "fem": ["Field", "GreenSolver", "disk_green", "free_space_green", "mesh_free_region", "reentrant_corners"],
+    "imaging": ["COMBINATIONS", "ImagingMap", "superlevel_area"],
+    "intents": ["Intent", "Measure", "Move", "SampleGradient", "Stay", "StepToward"],
+    "observations": ["Message", "MessageLog", "Observation"],
+    "outcome": ["Stop", "StopReason"],
+    "platforms": ["Platform", "PointPlatform", "WalkerPlatform"],
+    "scenarios": ["Scenario", "load_scenario", "scenario_names"],
+    "spaces": ["GridSpace", "MeshSpace", "SearchSpace"],
+    "strategies": ["STRATEGIES", "GradientStrategy", "RandomWalkStrategy", "ReciprocityStrategy",
+                   "SearchContext", "Strategy", "three_point_gradient"],
+    "worlds": ["Mismatch", "PoissonWorld", "World"],
+})

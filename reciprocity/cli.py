@@ -14,10 +14,11 @@ from arenas import ArenaError
 from arenas.files import check_output, parse_yaml
 from arenas.poses import pose_from_degrees
 
-from .api import check, execute, strategy_parameters
 from .errors import ReciprocityError
-from .scenarios import load_scenario, scenario_description, scenario_names
-from .strategies import STRATEGIES
+
+# The episode machinery (.api, .scenarios, .strategies and what they pull in) is
+# imported inside the commands that run or list it, so that --help, `arenas` and a
+# usage error answer without it (issue 24: start-up).
 
 __all__ = ["main"]
 
@@ -134,6 +135,7 @@ def cmd_arenas(args) -> int:
 
 
 def cmd_scenarios(args) -> int:
+    from .scenarios import load_scenario, scenario_description, scenario_names
     print(f"{'name':<22} {'world':<9} {'platform':<8}  description")
     for name in scenario_names():
         sc = load_scenario(name)
@@ -142,6 +144,7 @@ def cmd_scenarios(args) -> int:
 
 
 def cmd_strategies(args) -> int:
+    from .strategies import STRATEGIES
     rows = []
     for name, cls in STRATEGIES.items():
         first = " ".join((cls.__doc__ or "").strip().split("\n\n")[0].split())
@@ -213,6 +216,9 @@ class _Planned:
 
 def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
     """Validate one episode's inputs cheaply (no meshing or solving)."""
+    from .api import check, strategy_parameters
+    from .scenarios import load_scenario
+    from .strategies import STRATEGIES
     _validate_common(args)
     world = _world_overrides(args)
     params = dict(params)
@@ -231,6 +237,7 @@ def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
 
 def _run_one(args, plan: _Planned, out: Path | None):
     """Run one planned episode; figures and the trace into `out`."""
+    from .api import execute
     prog = _progress(plan.strategy) if not args.quiet else None
     try:
         episode, strat, plats = execute(plan.scenario, plan.strategy, seed=args.seed, params=plan.params,
@@ -334,19 +341,28 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"error: {message} (see `{self.prog} --help`)\n")
 
 
-def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-    try:
-        return version("reciprocity-search")
-    except PackageNotFoundError:
-        return "unknown"
+class _Version(argparse.Action):
+    """``--version``: the installed version, looked up only when asked for (importlib.metadata
+    costs a fifth of the start-up time of every other command)."""
+
+    def __init__(self, option_strings, dest, help="show program's version number and exit"):
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from importlib.metadata import PackageNotFoundError, version
+        try:
+            number = version("reciprocity-search")
+        except PackageNotFoundError:
+            number = "unknown"
+        print(f"{parser.prog} {number}")
+        parser.exit()
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="reciprocity", description=(
         "Reciprocity-based source discovery (Landa et al.): FEM adjoint solves, "
         "probability imaging, and a gradient-ascent baseline."))
-    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    parser.add_argument("--version", action=_Version)
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("arenas", help="list the built-in arenas").set_defaults(func=cmd_arenas)
     sub.add_parser("scenarios", help="list the built-in scenarios (every arena, and the "

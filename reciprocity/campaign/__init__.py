@@ -10,15 +10,16 @@ trusted network only; elsewhere use ``tls://`` with certificates of your own CA
 (:mod:`reciprocity.campaign.cluster`).
 """
 
-from .cluster import TLSFiles, dask_client
-from .execute import CampaignResult, run_campaign
-from .report import Report, build_report, write_report
-from .reproduce import TABLES, PaperTable, PaperValue, register, reproduce
-from .spec import (CampaignSpec, EpisodeTask, ScenarioEntry, StrategyVariant, episode_seed,
-                   load_spec, parse_spec)
-from .store import CONTRACT_SCHEMA, ResultStore, connect, episodes_sql
+# Imported on first use (PEP 562, via lazy_loader): the command line imports the
+# spec and cluster modules to declare its flags, not Dask, Parquet or DuckDB.
+import lazy_loader as _lazy
 
-__all__ = ["CONTRACT_SCHEMA", "CampaignResult", "CampaignSpec", "EpisodeTask", "PaperTable",
-           "PaperValue", "Report", "ResultStore", "ScenarioEntry", "StrategyVariant", "TABLES",
-           "TLSFiles", "build_report", "connect", "dask_client", "episode_seed", "episodes_sql", "load_spec",
-           "parse_spec", "register", "reproduce", "run_campaign", "write_report"]
+__getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={
+    "cluster": ["TLSFiles", "dask_client"],
+    "execute": ["CampaignResult", "run_campaign"],
+    "report": ["Report", "build_report", "write_report"],
+    "reproduce": ["TABLES", "PaperTable", "PaperValue", "register", "reproduce"],
+    "spec": ["CampaignSpec", "EpisodeTask", "ScenarioEntry", "StrategyVariant", "episode_seed", "load_spec",
+             "parse_spec"],
+    "store": ["CONTRACT_SCHEMA", "ResultStore", "connect", "episodes_sql"],
+})

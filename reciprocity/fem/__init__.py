@@ -7,11 +7,13 @@ solve (a :class:`Field`) as one back-substitution; :mod:`~reciprocity.fem.exact`
 closed-form Green's functions the solver is checked against.
 """
 
-from .exact import disk_green, free_space_green
-from .green import Field, GreenSolver
-from .mesh import cache_dir, cached_mesh, mesh_free_region, node_areas, reentrant_corners, triangle_areas
+# Imported on first use (PEP 562, via lazy_loader): green.py and mesh.py pull in
+# scikit-fem, matplotlib's triangulation and Triangle, which the closed-form
+# solutions of exact.py (numpy only) and `import reciprocity` do not need.
+import lazy_loader as _lazy
 
-__all__ = [
-    "Field", "GreenSolver", "cache_dir", "cached_mesh", "disk_green", "free_space_green",
-    "mesh_free_region", "node_areas", "reentrant_corners", "triangle_areas",
-]
+__getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={
+    "exact": ["disk_green", "free_space_green"],
+    "green": ["Field", "GreenSolver"],
+    "mesh": ["cache_dir", "cached_mesh", "mesh_free_region", "node_areas", "reentrant_corners", "triangle_areas"],
+})

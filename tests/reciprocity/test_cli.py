@@ -158,8 +158,7 @@ _BAD_JSON = [(["--json", "{tmp}"], "is a folder; give a file name"),
                          + [("demo", *c) for c in _BAD_OUT])
 def test_outputs_are_checked_before_any_work(command, extra, match, tmp_path, monkeypatch, capsys):
     """A bad output path is refused before the episode runs, and nothing is written."""
-    import reciprocity.cli as cli
-    monkeypatch.setattr(cli, "execute", lambda *a, **k: (_ for _ in ()).throw(AssertionError("ran")))
+    monkeypatch.setattr("reciprocity.api.execute", lambda *a, **k: (_ for _ in ()).throw(AssertionError("ran")))
     (tmp_path / "afile").write_text("x")
     before = sorted(tmp_path.rglob("*"))
     argv = [a.format(tmp=tmp_path) for a in extra]

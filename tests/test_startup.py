@@ -1,0 +1,48 @@
+"""Start-up: importing the packages or asking the command lines for help stays cheap.
+
+Issue 24: ``reciprocity --help`` took 1.4 s and 247 MB because every package imported its
+whole stack up front (OpenCV, pymunk, scikit-fem, numba kernels, Dask, ...). The packages
+now export their names lazily and the commands import what they run; these tests keep it
+so. Timing is measured in ``benchmarks/bench_startup.py``, not asserted here.
+"""
+
+import importlib
+import json
+import subprocess
+import sys
+
+import pytest
+
+#: Third-party stacks no import of a package and no ``--help`` may load.
+HEAVY = ("matplotlib", "numba", "cv2", "pymunk", "dask", "distributed", "skfem", "pyarrow", "duckdb",
+         "gymnasium")
+
+#: Run in a fresh interpreter: imports every package and both CLIs, asks each CLI for
+#: --help (its output discarded), then prints which heavy modules got loaded.
+PROBE = f"""
+import contextlib, io, json, sys
+import reciprocity.cli, reciprocity, arenas, hjplanner, hjplanner.cli
+for main in (reciprocity.cli.main, hjplanner.cli.main):
+    with contextlib.redirect_stdout(io.StringIO()):
+        try:
+            main(["--help"])
+        except SystemExit:
+            pass
+print(json.dumps(sorted(m for m in {HEAVY!r} if m in sys.modules)))
+"""
+
+
+def test_imports_and_help_load_no_heavy_stack():
+    done = subprocess.run([sys.executable, "-c", PROBE], capture_output=True, text=True, check=True)
+    assert json.loads(done.stdout.splitlines()[-1]) == []
+
+
+@pytest.mark.parametrize("package", ["arenas", "hjplanner", "reciprocity", "reciprocity.fem",
+                                     "reciprocity.campaign"])
+def test_lazy_exports_resolve_and_are_listed(package):
+    module = importlib.import_module(package)
+    assert module.__all__ and set(module.__all__) <= set(dir(module))
+    for name in module.__all__:
+        assert getattr(module, name) is not None, name
+    with pytest.raises(AttributeError):
+        module.no_such_name
