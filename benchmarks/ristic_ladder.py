@@ -18,7 +18,10 @@ Success as in the paper (Sec. 5.1: on the source within 100 steps and self-local
 with Wilson 95 % intervals (``scipy.stats.binomtest``); mean steps over the successes.
 ``--experiment control`` keeps rung 1 and changes one setting of the control at a time
 (ideal measurements drawn instead of the mean, no anti-oscillation rule, no stay, M = 4000);
-``--experiment stay`` runs the paper's set-up with and without the stay control.
+``--experiment stay`` runs the paper's set-up with and without the stay control;
+``--experiment controls`` scores Algorithm 2's five controls every step;
+``--experiment sensor`` changes the reach of the link sensor (secondary links uninformative,
+or seen perfectly).
 Results: the doc of :mod:`reciprocity.campaign.tables.ristic2014`.
 """
 
@@ -52,6 +55,16 @@ FIVE = (
     ("4e. the paper's set-up, all five controls scored", {"controls": "all"}, {}),
 )
 
+#: The link sensor's reach, which the paper fixes (primary p_d 1, p_fa 0; secondary 0.8, 0.1)
+#: but whose effect it does not show (``--experiment sensor``): the paper's set-up with the
+#: secondary links unobservable in effect (p_d = p_fa = 0.5 carries no information), and
+#: with them seen perfectly.
+SENSOR = (
+    ("4. the paper: secondary links p_d 0.8, p_fa 0.1", {}, {}),
+    ("4f. primary links only (secondary p_d = p_fa = 0.5)", {}, {"secondary": [0.5, 0.5]}),
+    ("4g. secondary links seen perfectly (p_d 1, p_fa 0)", {}, {"secondary": [1.0, 0.0]}),
+)
+
 RUNGS = (
     ("1. map known, lattice field", {"map": "known", "field": "lattice"}, {"map": "known"}),
     ("1'. as 1, path planner", {"map": "known", "field": "lattice", "planner": "path"}, {"map": "known"}),
@@ -74,14 +87,15 @@ def main(argv=None) -> None:
     ap.add_argument("--source", default="0,7")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--rungs", default=None, help="comma-separated rung numbers to run (default: all)")
-    ap.add_argument("--experiment", choices=("ladder", "control", "stay", "controls"), default="ladder",
+    ap.add_argument("--experiment", choices=("ladder", "control", "stay", "controls", "sensor"), default="ladder",
                     help="the ladder, or rung 1 with one control setting changed at a time")
     args = ap.parse_args(argv)
     source = [int(v) for v in args.source.split(",")]
     print(f"source {tuple(source)}, {args.runs} runs per rung (seeds 0..{args.runs - 1})\n")
     print("| rung | success | 95 % CI | reached | mean steps (successes) |\n|---|---:|---|---:|---:|")
     with ProcessPoolExecutor(args.workers) as pool:
-        rows = {"ladder": RUNGS, "control": CONTROL, "stay": STAY, "controls": FIVE}[args.experiment]
+        rows = {"ladder": RUNGS, "control": CONTROL, "stay": STAY, "controls": FIVE,
+                "sensor": SENSOR}[args.experiment]
         if args.rungs:
             rows = [r for r in rows if r[0].split(" ")[0].rstrip(".") in args.rungs.split(",")]
         for label, params, world in rows:
