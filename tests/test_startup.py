@@ -37,6 +37,27 @@ def test_imports_and_help_load_no_heavy_stack():
     assert json.loads(done.stdout.splitlines()[-1]) == []
 
 
+#: Run in a fresh interpreter with the command's arguments after ``-c``: runs one
+#: ``reciprocity`` command (its listing discarded), then prints which heavy modules it loaded.
+LISTING_PROBE = f"""
+import contextlib, io, json, sys
+import reciprocity.cli
+with contextlib.redirect_stdout(io.StringIO()):
+    code = reciprocity.cli.main(sys.argv[1:])
+assert code == 0, code
+print(json.dumps(sorted(m for m in {HEAVY!r} if m in sys.modules)))
+"""
+
+
+@pytest.mark.parametrize("command", ["strategies", "scenarios"])
+def test_listings_load_no_heavy_stack(command):
+    # listing imports every strategy module and validates every scenario (through the
+    # world kinds): their solvers, kernels and plots load where they are used
+    done = subprocess.run([sys.executable, "-c", LISTING_PROBE, command], capture_output=True, text=True,
+                          check=True)
+    assert json.loads(done.stdout.splitlines()[-1]) == []
+
+
 @pytest.mark.parametrize("package", ["arenas", "hjplanner", "reciprocity", "reciprocity.fem",
                                      "reciprocity.campaign"])
 def test_lazy_exports_resolve_and_are_listed(package):

@@ -11,21 +11,24 @@ from __future__ import annotations
 import hashlib
 import time
 from collections import OrderedDict
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 import scipy.sparse as sp
-import skfem
-from matplotlib.tri import Triangulation
-from scipy.sparse.linalg import splu
-from scipy.spatial import cKDTree
-from skfem.models.poisson import laplace
 
 from arenas import Arena, as_points
 
 from ..errors import ReciprocityError
 from .locate import TriangleLocator
 from .mesh import mesh_free_region
+
+if TYPE_CHECKING:
+    import skfem
+    from matplotlib.tri import Triangulation
+
+# scikit-fem, SuperLU and the k-d tree are imported where a solver is built or used, so
+# that listing strategies and scenarios (which import this module for its names) stays
+# cheap (issue 24: start-up).
 
 __all__ = ["GreenSolver", "Field"]
 
@@ -129,6 +132,10 @@ class GreenSolver:
 
     def __init__(self, arena: Arena, h: float = 1.0, order: int = 1,
                  walls: str = "dirichlet", grading: float | None = None, mesh=None):
+        import skfem
+        from scipy.sparse.linalg import splu
+        from scipy.spatial import cKDTree
+        from skfem.models.poisson import laplace
         if not isinstance(arena, Arena):
             raise ReciprocityError(f"arena must be an arenas.Arena (see arenas.load); got "
                                    f"{type(arena).__name__}")
@@ -178,6 +185,7 @@ class GreenSolver:
     # ------------------------------------------------------------------ set-up
     def _curved(self, mesh1: skfem.MeshTri) -> skfem.MeshTri2:
         """Quadratic mesh whose boundary edge midpoints lie on the exact circle."""
+        import skfem
         cx, cy, r = self.arena.circle
         m2 = skfem.MeshTri2.from_mesh(mesh1)
         facets = mesh1.boundary_facets()
@@ -344,6 +352,7 @@ class GreenSolver:
             g = np.asarray(dirichlet(xd[0], xd[1]), dtype=float)
             w[self._dirichlet] = g if b.ndim == 1 else g[:, None]
         if flux is not None and self.walls == "neumann" and self.obstacle_facets.size:
+            import skfem
             fb = skfem.FacetBasis(self.mesh, self.basis.elem, facets=self.obstacle_facets)
 
             @skfem.LinearForm

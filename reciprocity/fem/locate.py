@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-from matplotlib.tri import Triangulation
-from scipy.spatial import cKDTree
+
+if TYPE_CHECKING:
+    from matplotlib.tri import Triangulation
 
 __all__ = ["TriangleLocator"]
 
@@ -21,6 +24,7 @@ class TriangleLocator:
     """
 
     def __init__(self, points: np.ndarray, triangles: np.ndarray):
+        from scipy.spatial import cKDTree
         self.points, self.triangles = points, triangles
         self._triangulation: Triangulation | None = None
         self._finder = None
@@ -39,6 +43,8 @@ class TriangleLocator:
     def triangulation(self) -> Triangulation:
         """The mesh as a matplotlib Triangulation (built once; point location, contours)."""
         if self._triangulation is None:
+            # matplotlib is imported here, not at the top: locating points never needs it
+            from matplotlib.tri import Triangulation
             self._triangulation = Triangulation(self.points[:, 0], self.points[:, 1], self.triangles)
         return self._triangulation
 

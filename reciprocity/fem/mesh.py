@@ -12,15 +12,19 @@ from __future__ import annotations
 import hashlib
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import skfem
-import triangle
-from scipy.spatial import cKDTree
 
 from arenas import Arena
 
 from ..errors import MeshError
+
+if TYPE_CHECKING:
+    import skfem
+
+# scikit-fem and Triangle are imported by the functions that mesh, so that the nodal
+# helpers below and the modules importing this one load without them (issue 24).
 
 __all__ = ["mesh_free_region", "cached_mesh", "cache_dir", "reentrant_corners", "triangle_areas", "node_areas"]
 
@@ -112,6 +116,9 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
     skfem.MeshTri
         Nodes in cm.
     """
+    import skfem
+    import triangle
+    from scipy.spatial import cKDTree
     if not np.isfinite(h) or h <= 0:
         raise MeshError(f"mesh size h must be a positive length in cm; got {h!r}")
     (x0, x1), (y0, y1) = arena.bounds
@@ -171,6 +178,8 @@ def cached_mesh(arena: Arena, h: float, *, grading: float | None = 0.5) -> skfem
     0.4-1.5 s per arena and mesh size at start-up. A cache that cannot be read or written
     is passed over silently (the mesh is then made as usual).
     """
+    import skfem
+    import triangle
     folder = cache_dir()
     if folder is None:
         return mesh_free_region(arena, h, grading=grading)

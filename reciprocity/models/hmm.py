@@ -16,7 +16,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 from scipy import sparse
 
 __all__ = ["CellGrid", "TINY", "Transition", "backtrack", "detection_path", "forward_path", "row_combination",
@@ -98,41 +97,12 @@ class CellGrid:
 TINY = 1e-150
 
 
-@njit(cache=True)
-def _stencil(x, sx, sy, w00, wx, wy, wxy, scale, out):  # pragma: no cover (compiled)
-    """``out[r, j, i] = scale (w00 x[r, j, i] + wx x[r, j, i - sx] + wy x[r, j - sy, i]
-    + wxy x[r, j - sy, i - sx])``, terms from outside the ``n × m`` grid left out (odour
-    shifted out of it is lost to C0); sums below :data:`TINY` become 0."""
-    R, n, m = x.shape
-    for r in range(R):
-        for j in range(n):
-            jy = j - sy
-            in_y = 0 <= jy < n
-            for i in range(m):
-                ix = i - sx
-                s = w00 * x[r, j, i]
-                if 0 <= ix < m:
-                    s += wx * x[r, j, ix]
-                    if in_y:
-                        s += wxy * x[r, jy, ix]
-                if in_y:
-                    s += wy * x[r, jy, i]
-                # flush what is below any meaningful probability to zero: subnormal
-                # numbers would slow every later product tenfold
-                out[r, j, i] = scale * s if s > TINY else 0.0
-
-
-@njit(cache=True)
-def row_combination(weights, rows):  # pragma: no cover (compiled)
+def row_combination(weights: np.ndarray, rows: np.ndarray) -> np.ndarray:
     """``Σ_i weights_i rows[i, :]`` (a row vector times a matrix, e.g. α = π Ψ of
-    eq. (12)), single-threaded and skipping zero weights."""
-    out = np.zeros(rows.shape[1])
-    for i in range(rows.shape[0]):
-        w = weights[i]
-        if w != 0.0:
-            for j in range(rows.shape[1]):
-                out[j] += w * rows[i, j]
-    return out
+    eq. (12)), single-threaded and skipping zero weights (compiled with numba on first
+    use)."""
+    from ._hmm_kernels import row_combination as compiled
+    return compiled(weights, rows)
 
 
 @dataclass(frozen=True)
@@ -170,6 +140,7 @@ class Transition:
 
     def _apply(self, x: np.ndarray, sign: int, scale: float = 1.0, out: np.ndarray | None = None
                ) -> np.ndarray:
+        from ._hmm_kernels import stencil
         g = self.grid
         y = np.ascontiguousarray(x, dtype=float).reshape(-1, g.n, g.m)
         res = np.empty_like(y) if out is None else out.reshape(y.shape)
@@ -178,7 +149,7 @@ class Transition:
         for k in range(self.substeps):
             if k:
                 y = res.copy()
-            _stencil(y, sign * self.sx, sign * self.sy, *w, scale if k == self.substeps - 1 else 1.0, res)
+            stencil(y, sign * self.sx, sign * self.sy, *w, scale if k == self.substeps - 1 else 1.0, TINY, res)
         return res.reshape(np.shape(x))
 
     def superpose(self, psi: np.ndarray, n: int, out: np.ndarray) -> np.ndarray:

@@ -9,17 +9,19 @@ mesh=space)``), so one triangulation serves both.
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.tri import Triangulation
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components, dijkstra
 
 from arenas import Arena
 
 from ..fem.locate import TriangleLocator
 from ..fem.mesh import cached_mesh, node_areas
 from .base import SearchSpace
+
+if TYPE_CHECKING:
+    from matplotlib.tri import Triangulation
 
 __all__ = ["MeshSpace", "mesh_space"]
 
@@ -117,6 +119,7 @@ class MeshSpace(SearchSpace):
             keep = ok[i] & ok[j]
             n = len(self.points)
             graph = coo_matrix((np.ones(keep.sum()), (i[keep], j[keep])), shape=(n, n))
+            from scipy.sparse.csgraph import connected_components
             _, label = connected_components(graph, directed=False)
             label[~ok] = -1
             self._labels[key] = label
@@ -145,6 +148,7 @@ class MeshSpace(SearchSpace):
             w = np.hypot(*(self.points[i] - self.points[j]).T)
             n = len(self.points)
             self._edge_graph = coo_matrix((w, (i, j)), shape=(n, n)).tocsr()
+        from scipy.sparse.csgraph import dijkstra
         d = dijkstra(self._edge_graph, directed=False, indices=np.flatnonzero(mask),
                      min_only=True, limit=float(distance))
         return np.isfinite(d)

@@ -15,7 +15,6 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..beliefs.base import expected_entropy as _expected_entropy
 from ..fem.green import GreenSolver
@@ -73,6 +72,7 @@ class LatticeGreens:
     """
 
     def __init__(self, solver: GreenSolver, spacing: float):
+        from scipy.spatial import cKDTree
         self.solver = solver
         self.nodes = lattice_nodes(solver.nodes, spacing)
         self.points = solver.nodes[self.nodes]

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import shortest_path
 from scipy.special import gammaln, logsumexp
 
 from ..beliefs.base import expected_entropy
@@ -207,6 +206,7 @@ class LatticeReciprocityStrategy(Strategy):
         a, b = sp.links[np.asarray(present, dtype=bool)].T
         n = len(sp.points)
         adj = coo_matrix((np.ones(2 * a.size), (np.r_[a, b], np.r_[b, a])), shape=(n, n)).tocsr()
+        from scipy.sparse.csgraph import shortest_path  # here: listing the strategies skips it
         return shortest_path(adj, unweighted=True, directed=False)
 
     # -- position -----------------------------------------------------------------------

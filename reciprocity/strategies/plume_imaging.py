@@ -32,7 +32,6 @@ Measured on ``song-100`` and ``otto-2d`` against the infotaxis family:
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import gaussian_filter
 from scipy.special import gammaln
 
 from ..errors import SearchError
@@ -126,7 +125,9 @@ class PlumeImaging(Strategy):
     def target(self) -> np.ndarray:
         """The ``"reach"`` rule's point: the most imaging mass within reach, at least `d`
         from every place read."""
-        # the sum over the lattice is a Gaussian blur of the weight image (zero outside)
+        # the sum over the lattice is a Gaussian blur of the weight image (zero outside);
+        # scipy.ndimage is imported here, not when the strategies are listed (issue 24)
+        from scipy.ndimage import gaussian_filter
         img = gaussian_filter(self.weights().reshape(self.shape), self.reach / self.h_used, mode="constant",
                               truncate=6.0).ravel()
         idx = np.flatnonzero(self.far) if self.far.any() else np.arange(len(self.nodes))

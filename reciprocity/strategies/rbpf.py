@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import shortest_path
 from scipy.special import logsumexp
 
 from ..beliefs.base import MIN_PARTICLES
@@ -259,6 +258,7 @@ class RBPFStrategy(Strategy):
         q = b.w @ b.q.astype(float)
         a, c = sp.links[q >= 0.5 - 1e-6].T
         adj = coo_matrix((np.ones(2 * a.size), (np.r_[a, c], np.r_[c, a])), shape=(n, n)).tocsr()
+        from scipy.sparse.csgraph import shortest_path  # here: listing the strategies skips it
         ks = np.flatnonzero(ok)
         nxt = [here if k == 0 else int(sp.step_of[here, k - 1]) for k in ks]
         nxt = [here if j < 0 else j for j in nxt]

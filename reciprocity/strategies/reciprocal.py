@@ -3,10 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import gaussian_filter, map_coordinates
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
 
 from ..errors import SearchError
 from ..fem.green import GreenSolver
@@ -17,6 +13,9 @@ from ..spaces import MeshSpace, mesh_space
 from ..models.green import cached_solver
 from .base import SearchContext, Status, Strategy
 from .information import expected_entropy, lattice_greens, systematic_support
+
+# scipy's image filters, graph routines and k-d tree are imported where they are used:
+# listing the strategies imports this module for its name and doc alone (issue 24).
 
 __all__ = ["ReciprocityStrategy", "RULES", "PRESETS", "DEFAULTS", "mass_within_reach"]
 
@@ -45,6 +44,7 @@ def mass_within_reach(candidates: np.ndarray, support: np.ndarray, weights: np.n
     cell : float, optional
         Lattice spacing, cm.
     """
+    from scipy.ndimage import gaussian_filter, map_coordinates
     cell = reach / 6.0 if cell is None else float(cell)
     pad = 4.0 * reach
     lo = np.minimum(support.min(axis=0), candidates.min(axis=0)) - pad
@@ -423,6 +423,8 @@ class ReciprocityStrategy(Strategy):
         """The connected parts of ``{P_M >= eps}`` holding at least MODE_MASS of the
         belief: ``(mass, peak cm)`` (the peak: the part's node of largest ``P_M``),
         heaviest first."""
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.csgraph import connected_components
         inside = self.region()
         tri = self.space.triangles
         tri = tri[inside[tri].all(axis=1)]
@@ -476,6 +478,7 @@ class ReciprocityStrategy(Strategy):
             # within reach in a straight line, and along the free region (mesh edges, at
             # most PATH_SLACK times longer than the straight line in the open): a source
             # in a closed-off room is not within reach of the other side of its wall
+            from scipy.spatial import cKDTree
             pts = self.space.points
             dist = cKDTree(pts[self._reachable]).query(pts, distance_upper_bound=self.reach)[0]
             path = self.space.within_path(self._reachable, PATH_SLACK * self.reach)
