@@ -44,7 +44,7 @@ from ..beliefs.base import MIN_PARTICLES, posterior_entropies
 from ..beliefs.particles import ParticleBelief, grid_particles
 from ..spaces.walker import candidate_moves, turn_inward
 from ..errors import SearchError
-from ..validation import positive
+from ..validation import number, positive
 from ..intents import Move, Stay
 from ..observations import Observation
 from . import register
@@ -225,22 +225,39 @@ class FreeEnergyInfotaxis(PlumeSearch):
     Parameters
     ----------
     alpha, beta : float
-        Temperature ``T = alpha · tr(Σ)^beta`` (0.01, 1.4).
+        Temperature ``T = alpha · tr(Σ)^beta`` (the paper's 0.01, 1.4).
     gamma : float
         Exponent of the distance in the potential energy (3).
+    area_exponent : float
+        Beyond the paper: the temperature's factor grows with the search area,
+        ``alpha · (L / 100)^area_exponent`` with ``L`` the square root of the area (the
+        task's bounds, length unit). 0 (default): the paper's one ``alpha`` at every size.
+        The printed ``alpha`` leaves the temperature deciding under 1 % of the moves at
+        every size, and the ``alpha`` that decides half of them grows about as ``L^2.35``
+        (``benchmarks/song_temperature.py``; the derivation is in the doc of
+        :mod:`reciprocity.campaign.tables.song2019`).
     """
 
     name = "free-energy"
 
-    def __init__(self, *, alpha: float = 0.01, beta: float = 1.4, gamma: float = 3.0, particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1,
-                 eta: float = 1e-3):
+    def __init__(self, *, alpha: float = 0.01, beta: float = 1.4, gamma: float = 3.0, area_exponent: float = 0.0,
+                 particles: int = 600, resample_below: float = 1 / 3, mcmc_steps: int = 1, eta: float = 1e-3):
         self.alpha = positive(alpha, "alpha")
         self.beta = positive(beta, "beta")
         self.gamma = positive(gamma, "gamma")
+        self.area_exponent = number(area_exponent, "area_exponent", 0.0, 10.0)
         super().__init__(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
 
     def params(self) -> dict:
-        return dict(super().params(), alpha=self.alpha, beta=self.beta, gamma=self.gamma)
+        return dict(super().params(), alpha=self.alpha, beta=self.beta, gamma=self.gamma,
+                    area_exponent=self.area_exponent)
+
+    def start(self, ctx: SearchContext) -> None:
+        (x0, x1), (y0, y1) = ctx.nominal["bounds"]
+        side = float(np.sqrt((x1 - x0) * (y1 - y0)))
+        #: the temperature's factor in force for this task's area
+        self.alpha_used = self.alpha * (side / 100.0) ** self.area_exponent
+        super().start(ctx)
 
     def scores(self, cands):
         joint, _, dist = self.belief.outcomes(cands, eta=self.eta)
@@ -251,11 +268,11 @@ class FreeEnergyInfotaxis(PlumeSearch):
         mean = np.einsum("zmi,ic->zmc", joint, x) / Ps[..., None]
         second = np.einsum("zmi,i->zm", joint, np.sum(x * x, axis=1)) / Ps
         tr = np.maximum(second - np.sum(mean ** 2, axis=2), 0.0)
-        F = W + self.alpha * tr ** self.beta * H                                   # eq. (8)
+        F = W + self.alpha_used * tr ** self.beta * H                              # eq. (8)
         return np.sum(rho * F, axis=0)                                             # eq. (10)
 
     def free_energy(self, alpha=None, beta=None, gamma=None) -> float:
-        return super().free_energy(self.alpha, self.beta, self.gamma)
+        return super().free_energy(getattr(self, "alpha_used", self.alpha), self.beta, self.gamma)
 
 
 @register

@@ -1,5 +1,7 @@
 """Campaign specs: parsing, grids, seeds and one-line validation errors."""
 
+from pathlib import Path
+
 import pytest
 
 from reciprocity.campaign import episode_seed, load_spec, parse_spec
@@ -213,3 +215,15 @@ def test_scheduler_of_a_spec_is_checked_and_not_hashed(tmp_path):
         with pytest.raises(SearchError, match=match):
             parse_spec({**BASE, "scheduler": bad})
 
+
+
+#: The campaign specs among the benchmarks' YAML files (the others configure a script).
+BENCH_SPECS = sorted(p for p in (Path(__file__).resolve().parents[2] / "benchmarks").glob("*.yaml")
+                     if "\nstrategies:" in p.read_text())
+
+
+@pytest.mark.parametrize("path", BENCH_SPECS, ids=lambda p: p.name)
+def test_every_campaign_spec_of_the_benchmarks_is_valid(path):
+    """The specs the benchmark docs tell users to run still parse and check."""
+    spec = load_spec(path)
+    assert spec.n_episodes >= 1

@@ -245,6 +245,23 @@ def test_start_on_the_source_is_refused():
     assert "\n" not in str(exc.value)
 
 
+def test_free_energys_temperature_factor_grows_with_the_area_only_when_asked():
+    from reciprocity.env import SearchEnv
+    from reciprocity.strategies import STRATEGIES
+    from reciprocity.strategies.agent import StrategyAgent
+    used = {}
+    for side in (100, 300):
+        for k in (0.0, 2.35):
+            _, info = SearchEnv(f"song-{side}").reset(seed=0)
+            agent = StrategyAgent(STRATEGIES["free-energy"], dict(QUICK, alpha=5.3, area_exponent=k))
+            agent.reset(info["task"], info["agent_seed"])
+            used[side, k] = agent.strategy.alpha_used
+    assert used[100, 0.0] == used[300, 0.0] == used[100, 2.35] == pytest.approx(5.3)
+    assert used[300, 2.35] == pytest.approx(5.3 * 3 ** 2.35)
+    with pytest.raises(SearchError, match="area_exponent"):
+        run("song-100", "free-energy", params={"area_exponent": -1})
+
+
 @pytest.mark.parametrize("params, match", [({"particles": 0}, "particles"), ({"particles": 9}, "from 10 to 100000"),
                                            ({"share": "some"}, "share"),
                                            ({"alpha": -1}, "alpha")])

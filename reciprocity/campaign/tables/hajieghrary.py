@@ -69,6 +69,17 @@ __all__ = ["HAJIEGHRARY_VOI", "HAJIEGHRARY_MISLEADING", "MISLEADING_WORLDS"]
 _TEAMS = (("infotaxis", "1 searcher"), ("voi[share=all]", "3, share all"),
           ("voi[share=voi]", "3, share by VoI"))
 
+
+def _values(rows) -> tuple[PaperValue, ...]:
+    """Ours only ('–' for the paper): steps over the successful runs, success and, for
+    teams, messages per row; `rows` holds (variant, scenario or None, row label)."""
+    return tuple(v for variant, scenario, row in rows
+                 for v in (PaperValue(variant, "steps", None, scenario, among="success", row=row),
+                           PaperValue(variant, "success", None, scenario, row=row))
+                 + ((PaperValue(variant, "messages", None, scenario, row=row),)
+                    if variant != "infotaxis" else ()))
+
+
 HAJIEGHRARY_VOI = register(PaperTable(
     name="hajieghrary-voi",
     title="one searcher vs three sharing all readings vs three sharing by value of "
@@ -76,11 +87,7 @@ HAJIEGHRARY_VOI = register(PaperTable(
     reference="Hajieghrary, Mox & Hsieh (2017), Figs. (bar charts)",
     build_spec=lambda runs: {"strategies": {"infotaxis": {}, "voi": {"share": ["all", "voi"]}},
                              "scenarios": ["hajieghrary"], "seeds": runs},
-    paper=tuple(v for variant, row in _TEAMS
-                for v in (PaperValue(variant, "steps", None, among="success", row=row),
-                          PaperValue(variant, "success", None, row=row))
-                + ((PaperValue(variant, "messages", None, row=row),)
-                   if variant != "infotaxis" else ())),
+    paper=_values((variant, None, row) for variant, row in _TEAMS),
     default_runs=50,
     note="The paper shows bar charts over 10 trials, no numbers ('–'); ours are means with "
          "Student-t 95 % intervals (Wilson for the success rate). Messages: readings a "
@@ -101,10 +108,8 @@ HAJIEGHRARY_MISLEADING = register(PaperTable(
     reference="Hajieghrary, Mox & Hsieh (2017), Section 3.3.1 (an argument, no numbers)",
     build_spec=lambda runs: {"strategies": {"voi": {"share": ["none", "all", "voi"]}},
                              "scenarios": [name for name, _ in MISLEADING_WORLDS], "seeds": runs},
-    paper=tuple(PaperValue(variant, metric, None, scenario, among="success" if metric == "steps" else None,
-                           row=f"{world}: {team}")
-                for scenario, world in MISLEADING_WORLDS for variant, team in _SHARING
-                for metric in ("steps", "success", "messages")),
+    paper=_values((variant, scenario, f"{world}: {team}")
+                  for scenario, world in MISLEADING_WORLDS for variant, team in _SHARING),
     default_runs=50,
     note="The paper argues that sharing every event can mislead but assumes perfect sensors "
          "(its Remark 3): no numbers ('–'). Searcher 3, nearest the source, has the faulty "
