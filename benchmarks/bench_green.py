@@ -62,7 +62,7 @@ def main(argv=None) -> int:
     rows = []
     for h in map(float, args.hs.split(",")):
         t = time.perf_counter()
-        solver = r.GreenSolver(arena, h=h)
+        solver = r.GreenSolver(arena, h=h).factorize()
         setup = time.perf_counter() - t
         solve = best_of(lambda: solver.solve(solver.point_sources(z[0])), 7)
         step = step_time(solver, arena)

@@ -34,8 +34,10 @@ COMMANDS = [
     ("python -c 'import reciprocity'", [sys.executable, "-c", "import reciprocity"], None),
     ("hjplanner --help", [str(BIN / "hjplanner"), "--help"], None),
     ("reciprocity arenas", [str(BIN / "reciprocity"), "arenas"], None),
+    ("reciprocity strategies", [str(BIN / "reciprocity"), "strategies"], None),
+    ("reciprocity scenarios", [str(BIN / "reciprocity"), "scenarios"], None),
     ("reciprocity run --arena paper --strategy reciprocity --seed 1",
-     [str(BIN / "reciprocity"), "run", "--arena", "paper", "--strategy", "reciprocity", "--seed", "1"], 3),
+     [str(BIN / "reciprocity"), "run", "--arena", "paper", "--strategy", "reciprocity", "--seed", "1"], 5),
 ]
 
 

@@ -74,6 +74,38 @@ def superlevel_area(points: np.ndarray, triangles: np.ndarray, values: np.ndarra
     return float(np.sum(area * frac))
 
 
+class _Columns:
+    """An (n, m) array grown one column at a time inside a buffer of doubling width:
+    adding a column writes n numbers instead of copying all n × m (issue 24: an
+    Algorithm-1 step on 27 000 nodes spent more time copying than back-substituting)."""
+
+    def __init__(self, n: int):
+        self._buf = np.empty((n, 8))
+        self.m = 0
+
+    @property
+    def array(self) -> np.ndarray:
+        """The columns so far, shape (n, m): a view to read, never to write."""
+        return self._buf[:, :self.m]
+
+    def append(self, cols: np.ndarray) -> None:
+        """Add the columns of `cols`, shape (n,) or (n, k)."""
+        cols = np.asarray(cols, dtype=float).reshape(len(self._buf), -1)
+        end = self.m + cols.shape[1]
+        if end > self._buf.shape[1]:
+            buf = np.empty((len(self._buf), max(2 * self._buf.shape[1], end)))
+            buf[:, :self.m] = self.array
+            self._buf = buf
+        self._buf[:, self.m:end] = cols
+        self.m = end
+
+    def first(self, k: int) -> "_Columns":
+        """A copy holding the first `k` columns."""
+        out = _Columns(len(self._buf))
+        out.append(self._buf[:, :k])
+        return out
+
+
 class ImagingMap(Belief):
     """Cumulative probability imaging function on a :class:`GreenSolver`'s mesh: a
     :class:`~reciprocity.beliefs.Belief` over the mesh nodes.
@@ -161,9 +193,21 @@ class ImagingMap(Belief):
         self.points = np.empty((0, 2))
         self.readings = np.empty(0)
         self.saturated = np.empty(0, dtype=bool)
-        self._g = np.empty((len(self.nodes), 0))
+        self._columns = _Columns(len(self.nodes))
+        self._clear()
         self._node_areas = None
+
+    def _clear(self) -> None:
+        """Forget what derives from the readings; with a known strength the columns of
+        the model and of the residuals stay, as each depends on its own reading alone."""
         self._cache: dict = {}
+        self._model_columns = _Columns(len(self.nodes))
+        self._residual_columns = _Columns(len(self.nodes))
+
+    @property
+    def _g(self) -> np.ndarray:
+        """Dof values of ``G(·, z_k)``, one column per reading, shape (n_nodes, M)."""
+        return self._columns.array
 
     # ------------------------------------------------------------------ data
     def add(self, z, reading: float, green: np.ndarray | None = None, *,
@@ -189,18 +233,20 @@ class ImagingMap(Belief):
         self.points = np.vstack([self.points, z])
         self.readings = np.append(self.readings, float(reading))
         self.saturated = np.append(self.saturated, bool(saturated))
-        self._g = np.column_stack([self._g, g])
+        self._columns.append(g)
         self._cache.clear()
+        if self.strength is None:   # the fitted strength moves every column
+            self._clear()
 
     def first(self, k: int) -> "ImagingMap":
         """A map holding only the first `k` measurements (for step-by-step figures)."""
         if not 1 <= k <= self.n:
             raise ReciprocityError(f"k must lie in 1..{self.n}; got {k!r}")
         other = copy.copy(self)
-        other._cache = {}
+        other._clear()
         other.points, other.readings = self.points[:k].copy(), self.readings[:k].copy()
         other.saturated = self.saturated[:k].copy()
-        other._g = self._g[:, :k]
+        other._columns = self._columns.first(k)
         return other
 
     @property
@@ -210,9 +256,10 @@ class ImagingMap(Belief):
 
     def model(self) -> np.ndarray:
         """Predicted readings ``v_k(x)`` at every node, shape (n_nodes, M)."""
-        if "model" not in self._cache:
-            self._cache["model"] = self._g * self.strength_map()[:, None]
-        return self._cache["model"]
+        done = self._model_columns
+        if done.m < self.n:      # the new readings' columns only (all after _clear)
+            done.append(self._g[:, done.m:] * self.strength_map()[:, None])
+        return done.array
 
     def strength_map(self) -> np.ndarray:
         """Source strength at every node: the known ``c``, or its least-squares estimate."""
@@ -297,11 +344,17 @@ class ImagingMap(Belief):
 
     def _residuals(self) -> np.ndarray:
         """``(v_k - I_k) / sigma`` at every node; 0 where a saturated reading is
-        exceeded (a censored reading only says the signal is at least ``I_k``)."""
-        r = (self.model() - self.readings) / self.sigma
-        if self.saturated.any():
-            r[:, self.saturated] = np.minimum(r[:, self.saturated], 0.0)
-        return r
+        exceeded (a censored reading only says the signal is at least ``I_k``). A view
+        of the columns kept: read it, never write it."""
+        done = self._residual_columns
+        if done.m < self.n:      # the new readings' columns only (all after _clear)
+            new = slice(done.m, self.n)
+            r = (self.model()[:, new] - self.readings[new]) / self.sigma
+            saturated = self.saturated[new]
+            if saturated.any():
+                r[:, saturated] = np.minimum(r[:, saturated], 0.0)
+            done.append(r)
+        return done.array
 
     def values(self) -> np.ndarray:
         """The combined imaging function ``P_M`` at every node, in [0, 1]."""

@@ -9,6 +9,7 @@ stiffness matrix is symmetric.
 from __future__ import annotations
 
 import hashlib
+import os
 import time
 from collections import OrderedDict
 from typing import TYPE_CHECKING, Callable
@@ -20,7 +21,7 @@ from arenas import Arena, as_points
 
 from ..errors import ReciprocityError
 from .locate import TriangleLocator
-from .mesh import mesh_free_region
+from .mesh import cache_dir, cached_mesh
 
 if TYPE_CHECKING:
     import skfem
@@ -30,13 +31,18 @@ if TYPE_CHECKING:
 # that listing strategies and scenarios (which import this module for its names) stays
 # cheap (issue 24: start-up).
 
-__all__ = ["GreenSolver", "Field"]
+__all__ = ["GreenSolver", "Field", "GREEN_CACHE_SIZE"]
 
 _WALLS = ("dirichlet", "neumann")
 #: :meth:`GreenSolver.probe_matrix` remembers point sets at least this large ...
 PROBE_CACHE_MIN = 10_000
 #: ... and this many of them per solver (a 1 px/mm floor of ``paper`` is 10 chunks).
 PROBE_CACHE_SIZE = 24
+#: Bumped whenever a solver would give different Green's functions on the same mesh.
+GREEN_FORMAT = 1
+#: Green's functions kept on disk by :meth:`GreenSolver.green` with ``cached=True``, the
+#: least recently used removed first (about 1 MB each for the truth of ``paper``).
+GREEN_CACHE_SIZE = 64
 
 
 class Field:
@@ -121,6 +127,13 @@ class GreenSolver:
         A mesh of the same arena and `h` to solve on (P1), so a search space and its
         solver share one mesh and one triangulation.
 
+    Notes
+    -----
+    The mesh comes from the disk cache of :func:`~reciprocity.fem.mesh.cached_mesh`. The
+    stiffness matrix is assembled and factorized on the first solve (or by
+    :meth:`factorize`): a solver whose fields all come from the disk cache
+    (``green(z, cached=True)``) never pays for either.
+
     Examples
     --------
     >>> import arenas, reciprocity
@@ -133,9 +146,7 @@ class GreenSolver:
     def __init__(self, arena: Arena, h: float = 1.0, order: int = 1,
                  walls: str = "dirichlet", grading: float | None = None, mesh=None):
         import skfem
-        from scipy.sparse.linalg import splu
         from scipy.spatial import cKDTree
-        from skfem.models.poisson import laplace
         if not isinstance(arena, Arena):
             raise ReciprocityError(f"arena must be an arenas.Arena (see arenas.load); got "
                                    f"{type(arena).__name__}")
@@ -149,26 +160,16 @@ class GreenSolver:
         clock = time.perf_counter()
         if mesh is not None and (mesh.arena is not arena or mesh.h != self.h):
             raise ReciprocityError("mesh must be a MeshSpace of the same arena and h")
-        mesh1 = mesh.mesh if mesh is not None else mesh_free_region(arena, h, grading=grading)
-        #: Wall times (s) of the set-up stages: mesh, assemble, factorize.
+        mesh1 = mesh.mesh if mesh is not None else cached_mesh(arena, h, grading=grading)
+        #: Wall times (s) of the set-up stages: mesh, then assemble and factorize once done.
         self.timings = {"mesh": time.perf_counter() - clock}
         self._mesh1 = mesh1
         self.mesh = self._curved(mesh1) if (order == 2 and arena.circle is not None) else mesh1
         elem = skfem.ElementTriP1() if order == 1 else skfem.ElementTriP2()
         self.basis = skfem.Basis(self.mesh, elem)
         self._classify_boundary()
-        clock = time.perf_counter()
-        self.stiffness = laplace.assemble(self.basis).tocsr()
-        n = self.basis.N
-        self._free = np.setdiff1d(np.arange(n), self._dirichlet)
-        self.timings["assemble"] = time.perf_counter() - clock
-        clock = time.perf_counter()
-        a_free = self.stiffness[self._free]
-        self._a_id = a_free[:, self._dirichlet].tocsr()
-        # SuperLU with its default COLAMD ordering: on these meshes MMD_AT_PLUS_A halves
-        # the fill but makes each back-substitution ~9x slower (measured)
-        self._lu = splu(a_free[:, self._free].tocsc())
-        self.timings["factorize"] = time.perf_counter() - clock
+        self._free = np.setdiff1d(np.arange(self.basis.N), self._dirichlet)
+        self._stiffness = self._a_id = self._lu = None
         # point location: a trapezoid map on the straight-sided vertex mesh (O(log n))
         #: Point location and triangulation of the straight-sided vertex mesh (shared with
         #: the search space of the same mesh when one is given).
@@ -176,6 +177,32 @@ class GreenSolver:
         self._centroids = cKDTree(mesh1.p[:, mesh1.t].mean(axis=1).T)
         self._grid_cache: dict = {}
         self._probe_cache: OrderedDict = OrderedDict()
+
+    @property
+    def stiffness(self) -> sp.csr_matrix:
+        """Stiffness matrix of ``-Δ`` over every dof (assembled on first use)."""
+        if self._stiffness is None:
+            from skfem.models.poisson import laplace
+            clock = time.perf_counter()
+            self._stiffness = laplace.assemble(self.basis).tocsr()
+            self.timings["assemble"] = time.perf_counter() - clock
+        return self._stiffness
+
+    def factorize(self) -> "GreenSolver":
+        """Assemble and factorize now, as the first solve otherwise does; returns the solver."""
+        if self._lu is None:
+            from scipy.sparse.linalg import splu
+            a_free = self.stiffness[self._free]
+            clock = time.perf_counter()
+            self._a_id = a_free[:, self._dirichlet].tocsr()
+            # SuperLU with its default COLAMD ordering. MMD_AT_PLUS_A halves the fill; with
+            # partial pivoting each back-substitution is ~9x slower, with diagonal pivots
+            # (SymmetricMode, diag_pivot_thresh=0) 1.6x faster (27k unknowns: 2.5 -> 1.5 ms),
+            # but it moves every result by round-off (summaries in the last digits, the
+            # unknown-strength imaging map by up to 0.06), so it waits for a wanted change
+            self._lu = splu(a_free[:, self._free].tocsc())
+            self.timings["factorize"] = time.perf_counter() - clock
+        return self
 
     @property
     def triangulation(self) -> Triangulation:
@@ -263,8 +290,9 @@ class GreenSolver:
             self._probe_cache.move_to_end(key)
         return hit
 
-    def _probe_matrix(self, pts: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
-        cells = self.locate(pts)
+    def _probe_matrix(self, pts: np.ndarray, cells: np.ndarray | None = None
+                      ) -> tuple[sp.csr_matrix, np.ndarray]:
+        cells = self.locate(pts) if cells is None else cells.copy()
         inside = cells >= 0
         if self.order == 2 and self.arena.circle is not None and not inside.all():
             # curved boundary: points between a chord and its arc are in the nearest cell
@@ -300,8 +328,8 @@ class GreenSolver:
         return self._grid_cache[spacing]
 
     # ------------------------------------------------------------------ solves
-    def _check_in_free(self, pts: np.ndarray, what: str) -> None:
-        bad = self.locate(pts) < 0
+    def _check_in_free(self, pts: np.ndarray, what: str, cells: np.ndarray | None = None) -> None:
+        bad = (self.locate(pts) if cells is None else cells) < 0
         if bad.any():
             p = pts[np.argmax(bad)]
             raise ReciprocityError(
@@ -319,9 +347,10 @@ class GreenSolver:
             Strengths (default 1). The result sums all sources into one vector.
         """
         pts = as_points(points, "source points")
-        self._check_in_free(pts, "source point")
+        cells = self.locate(pts)      # once, for the check and the load vector
+        self._check_in_free(pts, "source point", cells)
         w = np.ones(len(pts)) if weights is None else np.asarray(weights, dtype=float)
-        m, _ = self.probe_matrix(pts)
+        m, _ = self._probe_matrix(pts, cells)
         return m.T @ w
 
     def solve(self, rhs: np.ndarray, dirichlet: Callable | None = None,
@@ -362,20 +391,51 @@ class GreenSolver:
 
             nb = neumann.assemble(fb)
             b = b + (nb if b.ndim == 1 else nb[:, None])
+        self.factorize()
         rhs_i = b[self._free] - self._a_id @ w[self._dirichlet]
         w[self._free] = self._lu.solve(rhs_i)
         return w
 
-    def green(self, z) -> Field:
+    def green(self, z, *, cached: bool = False) -> Field:
         """Green's function ``G(·, z)``: the adjoint solve ``-Δv = δ(· - z)`` (eq. 3).
 
         Parameters
         ----------
         z : array_like, shape (2,)
             Observation point in the free region, cm.
+        cached : bool
+            Keep the result on disk (under :func:`~reciprocity.fem.mesh.cache_dir`, by this
+            solver's mesh, elements, walls and `z`, at most GREEN_CACHE_SIZE of them) and
+            read it from there when present: the very numbers of the solve, without
+            assembling or factorizing. For fields solved again in every process, such as
+            a world's true signal.
         """
         z = as_points(z, "observation point")[0]
-        return Field(self, self.solve(self.point_sources(z)), f"G(., ({z[0]:.4g}, {z[1]:.4g}))")
+        name = f"G(., ({z[0]:.4g}, {z[1]:.4g}))"
+        path = self._green_path(z) if cached else None
+        if path is not None:
+            try:
+                with np.load(path) as data:
+                    dofs = data["dofs"]
+                if dofs.shape == (self.basis.N,):
+                    os.utime(path)  # recently used: pruned last
+                    return Field(self, dofs, name)
+            except (OSError, KeyError, ValueError):
+                pass
+        dofs = self.solve(self.point_sources(z))
+        if path is not None:
+            _store(path, dofs)
+        return Field(self, dofs, name)
+
+    def _green_path(self, z: np.ndarray):
+        """File of ``G(·, z)`` in the disk cache, or None when the cache is off."""
+        folder = cache_dir()
+        if folder is None:
+            return None
+        key = hashlib.sha256(f"{GREEN_FORMAT}|{self.order}|{self.walls}|{self.arena.circle!r}".encode())
+        for a in (self._mesh1.p, self._mesh1.t, z):
+            key.update(np.ascontiguousarray(a).tobytes())
+        return folder / "greens" / f"{key.hexdigest()[:32]}.npz"
 
     def greens(self, points) -> np.ndarray:
         """Dof values of ``G(·, z_k)`` for many points at once, shape (n_dofs, n)."""
@@ -384,7 +444,7 @@ class GreenSolver:
         m, _ = self.probe_matrix(pts)
         return self.solve(m.T.toarray())
 
-    def field(self, source=None, strength: float | None = None) -> Field:
+    def field(self, source=None, strength: float | None = None, *, cached: bool = False) -> Field:
         """Forward signal ``u = c G(·, S)`` of eq. (1).
 
         Parameters
@@ -393,6 +453,8 @@ class GreenSolver:
             Source position, cm (default: the arena's true source).
         strength : float, optional
             ``c`` (default: the arena's strength).
+        cached : bool
+            Read ``G(·, S)`` from the disk cache, or keep it there (see :meth:`green`).
         """
         if source is None:
             if self.arena.source is None:
@@ -402,7 +464,7 @@ class GreenSolver:
         c = self.arena.strength if strength is None else float(strength)
         if not np.isfinite(c) or c <= 0:
             raise ReciprocityError(f"strength must be a positive number; got {strength!r}")
-        g = self.green(source)
+        g = self.green(source, cached=cached)
         return Field(self, c * g.dofs, "u")
 
     # ------------------------------------------------------------------ export
@@ -422,3 +484,19 @@ class GreenSolver:
     def __repr__(self) -> str:
         return (f"GreenSolver(arena={self.arena.name!r}, h={self.h}, order={self.order}, "
                 f"walls={self.walls!r}, unknowns={self.n_unknowns})")
+
+
+def _store(path, dofs: np.ndarray) -> None:
+    """Write `dofs` to `path` (atomically) and prune the folder to GREEN_CACHE_SIZE files,
+    least recently used first; a cache that cannot be written is passed over silently."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
+        np.savez(tmp, dofs=dofs)
+        os.replace(tmp, path)
+        files = sorted((f for f in path.parent.glob("*.npz") if ".tmp." not in f.name),
+                       key=lambda f: f.stat().st_mtime)
+        for old in files[:max(0, len(files) - GREEN_CACHE_SIZE)]:
+            old.unlink(missing_ok=True)
+    except OSError:
+        pass

@@ -351,6 +351,7 @@ class ReciprocityStrategy(Strategy):
         self._reachable = self.space.reachable_from(pose[:2], self.clearance)
         self._next = np.asarray(pose[:2], dtype=float)
         self._node_area = self.space.cell_areas
+        self._far, self._far_count = np.ones(len(self.space.points), dtype=bool), 0
         self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
             if self.rule == "info" else None
         self._check_reachable()
@@ -514,7 +515,7 @@ class ReciprocityStrategy(Strategy):
     def next_point(self) -> np.ndarray | None:
         """Step 13: the next observation point (cm), or None if none is admissible."""
         im, cand = self.imaging, self.space
-        allowed = self._reachable & cand.separated(im.points, self.d)
+        allowed = self._reachable & self._separated()
         if self.rule == "info":
             nxt, gain = self._info_point(allowed)
             if nxt is not None and gain < INFO_GAIN_MIN:
@@ -535,6 +536,14 @@ class ReciprocityStrategy(Strategy):
         inside = im.model()[:, -1] > im.readings[-1]                   # {v_k > I_k}
         mask = allowed & inside if (allowed & inside).any() else allowed
         return cand.nearest_ring(im.points[-1], mask, score, self.solver.h)
+
+    def _separated(self) -> np.ndarray:
+        """Mask of the nodes at least `d` from every point read, brought up to date with
+        the points read since the last call only (not all of them at every step)."""
+        if self._far_count < self.imaging.n:
+            self._far &= self.space.separated(self.imaging.points[self._far_count:], self.d)
+            self._far_count = self.imaging.n
+        return self._far
 
     def _info_point(self, allowed: np.ndarray) -> tuple[np.ndarray | None, float]:
         """The ``"info"`` rule: the admissible lattice point of least expected entropy and

@@ -112,7 +112,7 @@ def shifted_walls(arena: Arena, shift: float) -> Arena:
 @lru_cache(maxsize=4)
 def _floor(arena: Arena, source: tuple, strength: float, h: float, px_per_mm: float, gamma: float):
     from arenas import render_floor
-    field = truth_solver(arena, h).field(np.array(source), strength)
+    field = truth_solver(arena, h).field(np.array(source), strength, cached=True)
     floor = render_floor(arena, field, px_per_mm=px_per_mm)
     if gamma == 1.0:
         return floor
@@ -163,8 +163,10 @@ class PoissonWorld(World):
     def field(self) -> Field:
         """The true signal ``u`` (a field evaluable at any points, cm)."""
         if self._field is None:
+            # the same signal in every process that asks: kept on disk, so that a warm
+            # start neither assembles nor factorizes the truth's quadratic elements
             solver = truth_solver(self.true_arena.without_scenario(), self.h)
-            self._field = solver.field(self.source, self.strength)
+            self._field = solver.field(self.source, self.strength, cached=True)
         return self._field
 
     def read(self, position, *, time: float = 0.0, dwell: float = 0.0,

@@ -170,3 +170,15 @@ def test_bad_input_messages():
     s = r.GreenSolver(arena, h=5.0)
     with pytest.raises(r.ReciprocityError, match="outside the meshed free region"):
         s.green((70.0, 99.0))  # inside the hook-shaped obstacle
+
+
+def test_a_cached_green_function_is_the_solve_itself(tmp_path, monkeypatch):
+    """``green(z, cached=True)`` keeps the very numbers of the solve on disk; a new solver
+    of the same mesh reads them back without assembling or factorizing."""
+    monkeypatch.setenv("RECIPROCITY_CACHE", str(tmp_path))
+    arena = arenas.load("paper")
+    first = r.GreenSolver(arena, h=4.0, order=2).field((70.0, 70.0), 850.0, cached=True)
+    again = r.GreenSolver(arena, h=4.0, order=2)
+    u = again.field((70.0, 70.0), 850.0, cached=True)
+    assert np.array_equal(u.dofs, first.dofs) and again._lu is None
+    assert not np.array_equal(again.green((70.0, 71.0), cached=True).dofs, u.dofs / 850.0)
