@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.special import k0
-from scipy.stats import poisson
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
@@ -58,6 +57,7 @@ def hit_probabilities(mu: np.ndarray, max_hits: int | None, kmax: int) -> np.nda
     mu = np.asarray(mu, dtype=float)
     top = kmax if max_hits is None else max_hits
     k = np.arange(top + 1).reshape((-1,) + (1,) * mu.ndim)
+    from scipy.stats import poisson      # here: scipy.stats costs 0.4 s that listing scenarios never needs
     p = poisson.pmf(k, mu[None])
     if max_hits is not None:
         p[-1] = np.maximum(0.0, 1.0 - p[:-1].sum(axis=0))
