@@ -132,7 +132,15 @@ the paper's times). The orderings the paper draws from the table are reproduced 
 energy: with the printed α only up to 200²; with the temperature fixed at every size
 (``--protocol balanced``) at every size, free energy 0.62–0.80 of infotaxis' time
 (the paper: 0.75–0.93), found in every run. The paper's jump at 350² (1.5× for a side
-1.17× longer) is in no row of ours. Mapless infotaxis and entrotaxis keep the paper's
+1.17× longer) is in no row of ours.
+
+The factor of two, by controlled experiment (``benchmarks/song_gap.md``, paired seeds),
+over the four candidates: the step length accounts for a constant factor (half steps of
+0.5 take infotaxis to 78–97 % of the paper's times at 100²–300²); the detection model does
+not (binary detections instead of counts: −6 ± 11 steps at 100², 21 % *faster* at 300²);
+counting δ = 0.25 as the time step makes it 4.0× too long; the start 5 units from the
+corners adds 20 % at 100². The faithful reading (unit steps) stays the preset
+(``song2019-table1``), the half-step hypothesis beside it (``song2019-table1-halfstep``). Mapless infotaxis and entrotaxis keep the paper's
 ordering against infotaxis at some sizes only.
 """
 
