@@ -219,8 +219,9 @@ SONG2019_TABLE1 = register(PaperTable(
           "and 'bottom right'). Our infotaxis times are a constant 2.3-2.5 times shorter "
           "than the paper's; no stated difference explains that alone (benchmarks/song_gap.md); "
           "steps of 0.5 come closest (the table song2019-table1-halfstep, a hypothesis). "
-          "The printed alpha leaves free energy's temperature inert, so ours self-traps "
-          "from 250² on."),
+          "The printed alpha leaves free energy's temperature inert (it decides under 1 % of "
+          "the moves), so ours self-traps from 250² on; --protocol balanced fixes the "
+          "temperature at every size."),
     protocols={"balanced": (
         lambda runs: _spec(runs, BALANCED_TEMPERATURE),
         "Protocol 'balanced' (beyond the paper): as the default, but free energy's temperature "
