@@ -40,11 +40,12 @@ UNREACHABLE = 1e50
 
 
 BLOCK = 8  # side of the (x, y) blocks whose changes are tracked, in nodes
+GROUPS = 2  # groups of layers swept independently within a sweep (see solve_sweeps)
 
 
 @njit(cache=True, nogil=True)
 def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, active, tol, sweep,
-                  changed):
+                  changed, scratch):
     """One Gauss-Seidel pass over layer ``k`` of the padded array, only in ``active`` blocks.
 
     Candidate of stencil c, if its arc is clear of the walls (bit c of
@@ -52,11 +53,48 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, r
     the node itself (straight steps shorter than the cell diagonal) is moved
     to the left-hand side.  Sets ``changed[k, bi, bj] = sweep`` where some
     node decreased by more than ``tol``.
+
+    The turning stencils read other layers only, which do not change during
+    this pass: their minimum (with ``bc``) is taken first, a whole row of
+    active blocks at a time in loops the compiler vectorises, into
+    ``scratch`` (nx, ny).  The straight stencils, whose feet lie in this
+    layer, follow node by node in the Gauss-Seidel order.  The minimum being
+    exact, the result is the same as taking every candidate node by node.
     """
     nt, nxp, nyp = phi.shape
     nx, ny = nxp - 2 * pad, nyp - 2 * pad
     nc = off_i.shape[1]
-    every = np.uint32((1 << nc) - 1)
+    nby = active.shape[1]
+    for i in range(nx):
+        bi = i // BLOCK
+        ip = i + pad
+        bj = 0
+        while bj < nby:
+            if not active[bi, bj]:
+                bj += 1
+                continue
+            run = bj
+            while run < nby and active[bi, run]:
+                run += 1
+            j0, j1 = bj * BLOCK, min(run * BLOCK, ny)
+            bj = run
+            for j in range(j0, j1):
+                scratch[i, j] = bc[k, i, j]
+            for c in range(nc):
+                kc = kk[k, c]
+                if kc == k:
+                    continue
+                a = ip + off_i[k, c]
+                b0 = pad + off_j[k, c]
+                w0, w1, w2, w3 = w[k, c, 0], w[k, c, 1], w[k, c, 2], w[k, c, 3]
+                cst, inv = cost[k, c], inv_self[k, c]
+                bit = np.uint32(1) << np.uint32(c)
+                for j in range(j0, j1):
+                    b = b0 + j
+                    value = (cst + w0 * phi[kc, a, b] + w1 * phi[kc, a, b + 1] + w2 * phi[kc, a + 1, b]
+                             + w3 * phi[kc, a + 1, b + 1]) * inv
+                    if (adm[k, i, j] & bit) != 0 and value < scratch[i, j]:
+                        scratch[i, j] = value
     for p in range(nx):
         i = nx - 1 - p if rev_i else p
         bi = i // BLOCK
@@ -67,14 +105,10 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, r
             if bits == 0 or not active[bi, bj]:
                 continue
             ip, jp = i + pad, j + pad
-            best = bc[k, i, j]
-            if bits == every:  # away from the walls: every arc is clear
-                for c in range(nc):
+            best = scratch[i, j]
+            for c in range(nc):
+                if kk[k, c] == k and (bits >> c) & 1:
                     best = min(best, _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost))
-            else:
-                for c in range(nc):
-                    if (bits >> c) & 1:
-                        best = min(best, _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost))
             old = phi[k, ip, jp]
             # Candidates that touched BIG stay unreached (BIG) rather than
             # creeping down geometrically through astronomically large values.
@@ -175,8 +209,8 @@ def _layer_is_active(k, kk, reach, changed, computed, active):
 
 
 @njit(cache=True, nogil=True)
-def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, reach, tol, sweep,
-                  changed, computed, active, order):
+def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, pad, reach, tol, sweep, changed, computed,
+                  active, order, rev_i, rev_j, scratch):
     """Sweep the layers in ``order``; returns how many layers had active blocks."""
     n_run = 0
     for k in order:
@@ -184,7 +218,7 @@ def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_
             continue
         n_run += 1
         _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i[k], rev_j[k], pad, active, tol,
-                      sweep, changed)
+                      sweep, changed, scratch)
         for bi in range(active.shape[0]):
             for bj in range(active.shape[1]):
                 if active[bi, bj]:
@@ -192,52 +226,88 @@ def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_
     return n_run
 
 
-def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, tol, max_sweeps, nthreads):
+def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, tol, max_sweeps, nthreads,
+                 two_way=False):
     """Iterate Gauss-Seidel sweeps until no value decreases by more than ``tol``.
 
     ``phi`` (ntheta, nx + 2 pad, ny + 2 pad) is updated in place; its border
     and blocked nodes hold BIG, so that a foot in a cell with a blocked
     corner gives no candidate; ``adm`` is the bitmask of :func:`stencil_masks`.
-    Values only decrease from the initial data,
-    so the iteration is monotone, and it converges under any (even
-    asynchronous) order of the updates: ``nthreads`` threads (the kernels
-    release the GIL) sweep disjoint groups of layers concurrently.  Sweeps
-    alternate increasing and decreasing θ.  A block of a layer is recomputed
-    only if a block it depends on changed since the block was last computed,
-    so converged regions cost nothing in later sweeps.  Returns the number of
-    sweeps done.
+    Values only decrease from the initial data, so the iteration is monotone,
+    and it converges under any order of the updates.
+
+    Sweeps visit the layers by increasing θ on even sweeps and decreasing θ
+    on odd ones (resolving left and right turns).  With ``nthreads`` = 2
+    (at most :data:`GROUPS`) each sweep splits the layers into two groups of
+    consecutive headings, whose boundaries move by a quarter turn every
+    sweep; a stencil reaching into the other group reads that layer as it
+    was at the start of the sweep (a snapshot), so the groups share no value
+    that changes during a sweep and two threads (the kernels release the
+    GIL) sweep them concurrently with a result that does not depend on
+    their timing: the same inputs and thread count give the same bits.  With reverse driving (``two_way``) the order within the layers
+    also flips every other pair of sweeps, so that reverse straight steps,
+    whose feet lie behind the node, are resolved in one pass as well.  A
+    block of a layer is recomputed only if a block it depends on changed
+    since the block was last computed, so converged regions cost nothing in
+    later sweeps.  Returns the number of sweeps done.
     """
     nt = phi.shape[0]
     nx, ny = phi.shape[1] - 2 * pad, phi.shape[2] - 2 * pad
     nbx = (nx + BLOCK - 1) // BLOCK
     nby = (ny + BLOCK - 1) // BLOCK
     reach = (pad + BLOCK - 1) // BLOCK
-    changed = np.full((nt, nbx, nby), -1, np.int64)  # sweep of the last change; -1: initial data
+    groups = max(1, min(int(nthreads), GROUPS, nt))
+    turn = int(np.abs((kk - np.arange(nt)[:, None] + nt // 2) % nt - nt // 2).max())
+    nsnap = 0 if groups == 1 else min(nt, 2 * groups * turn)
+    # layers nt.. of `work` and `changed` hold the snapshots of the sweep
+    work = np.empty((nt + nsnap, *phi.shape[1:]))
+    work[:nt] = phi
+    changed = np.full((nt + nsnap, nbx, nby), -1, np.int64)  # sweep of the last change; -1: initial data
     computed = np.full((nt, nbx, nby), -2, np.int64)  # sweep of the last computation
-    nthreads = max(1, min(int(nthreads), nt))
-    active = np.zeros((nthreads, nbx, nby), np.bool_)
-    args = (phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, reach, float(tol))
+    active = np.zeros((groups, nbx, nby), np.bool_)
+    scratch = np.empty((groups, nx, ny))
+    args = (work, bc, off_i, off_j, w, inv_self)
+    rest = (cost, adm, pad, reach, float(tol))
 
-    def run(group, sweep):
-        start, stop = (group * nt) // nthreads, ((group + 1) * nt) // nthreads
-        shift = (sweep * nt) // (2 * nthreads)  # move the group boundaries between sweeps
-        order = (np.arange(start, stop) if sweep % 2 == 0 else np.arange(stop - 1, start - 1, -1)) + shift
-        return _sweep_layers(*args, sweep, changed, computed, active[group], order % nt)
+    def layers(group, sweep):
+        start, stop = (group * nt) // groups, ((group + 1) * nt) // groups
+        shift = (sweep * nt) // (2 * groups)  # move the group boundaries between sweeps
+        order = np.arange(start, stop) if sweep % 2 == 0 else np.arange(stop - 1, start - 1, -1)
+        return (order + shift) % nt
 
-    pool = ThreadPoolExecutor(nthreads) if nthreads > 1 else None
+    def sources(sweep):
+        """``kk`` with every stencil reaching into another group redirected to a snapshot layer."""
+        owner = np.empty(nt, np.int64)
+        for group in range(groups):
+            owner[layers(group, sweep)] = group
+        cross = owner[kk] != owner[:, None]
+        deps = np.unique(kk[cross])
+        slot = np.arange(nt)
+        slot[deps] = nt + np.arange(len(deps))
+        work[nt:nt + len(deps)] = work[deps]
+        changed[nt:nt + len(deps)] = changed[deps]
+        return np.where(cross, slot[kk], kk)
+
+    pool = ThreadPoolExecutor(groups) if groups > 1 else None
     try:
         sweeps = 0
         while sweeps < max_sweeps:
-            if pool is None:
-                n_run = run(0, sweeps)
-            else:
-                n_run = sum(pool.map(run, range(nthreads), [sweeps] * nthreads))
+            source = sources(sweeps)
+            flip = two_way and (sweeps // 2) % 2 == 1
+            ri, rj = rev_i ^ flip, rev_j ^ flip
+
+            def run(group, sweep=sweeps):
+                return _sweep_layers(*args, source, *rest, sweep, changed, computed, active[group],
+                                     layers(group, sweep), ri, rj, scratch[group])
+
+            n_run = sum(map(run, range(groups)) if pool is None else pool.map(run, range(groups)))
             if n_run == 0:
                 break
             sweeps += 1
     finally:
         if pool is not None:
             pool.shutdown()
+    phi[:] = work[:nt]
     return sweeps
 
 

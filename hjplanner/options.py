@@ -34,11 +34,14 @@ class SolverOptions:
     max_sweeps : int
         Upper bound on Gauss-Seidel sweeps.
     threads : int, optional
-        Threads sweeping groups of layers concurrently; default 1, which is
-        deterministic (bit for bit).  With 2 threads the Gauss-Seidel order
-        depends on timing, so results vary from run to run within the
-        stopping tolerance; on an idle 2-core machine 2 threads are 1.5x
-        faster.  :class:`ValueFunctionBank` runs one thread per process.
+        Threads sweeping groups of layers concurrently; default 1.  With 2
+        threads each sweep splits the headings into two groups that read
+        each other's layers through snapshots taken at the start of the
+        sweep, so the result does not depend on timing: the same inputs and
+        thread count give the same bits (but not the same bits as 1
+        thread: the Gauss-Seidel order differs, within the stopping
+        tolerance), with a sweep or two more; 2 threads pay only on idle
+        cores.  :class:`ValueFunctionBank` runs one thread per process.
     """
 
     def __init__(self, turn_steps: tuple[int, ...] = (1, 2, 3, 4), straight_cells: tuple[float, ...] = (3.0,),

@@ -192,6 +192,17 @@ def test_sweeps_converge_and_threads_agree():
     assert np.abs(one.values[finite] - two.values[finite]).max() < 0.01
 
 
+@pytest.mark.parametrize("reverse", [False, True])
+def test_two_threads_are_deterministic(u_room, reverse):
+    """Two threads sweep two groups of layers that read each other through snapshots: no race, same bits."""
+    options = SolverOptions(threads=2)
+    runs = [solve(u_room, (3.3, 1.5), 0.25, 0.05, 32, clearance=0.05, reverse=reverse, options=options)
+            for _ in range(3)]
+    for other in runs[1:]:
+        assert np.array_equal(runs[0].values, other.values)
+        assert other.meta["sweeps"] == runs[0].meta["sweeps"]
+
+
 def test_target_next_to_an_obstacle(u_room):
     """The exact layer shrinks to the obstacle-free disk; first hits of a small disk fill in."""
     vf = solve(u_room, (1.42, 1.5), 0.25, 0.04, 32)  # 8 cm from the U's outer wall
@@ -203,7 +214,15 @@ def test_target_next_to_an_obstacle(u_room):
     assert path.reached
 
 
-def test_default_solve_is_deterministic(u_room):
-    a = solve(u_room, (3.3, 1.5), 0.25, 0.05, 32, clearance=0.05)
-    b = solve(u_room, (3.3, 1.5), 0.25, 0.05, 32, clearance=0.05)
+@pytest.mark.parametrize("reverse", [False, True])
+def test_default_solve_is_deterministic(u_room, reverse):
+    a = solve(u_room, (3.3, 1.5), 0.25, 0.05, 32, clearance=0.05, reverse=reverse)
+    b = solve(u_room, (3.3, 1.5), 0.25, 0.05, 32, clearance=0.05, reverse=reverse)
     assert np.array_equal(a.values, b.values)
+
+
+def test_reverse_sweeps_flip_the_order_within_layers(paper):
+    """Reverse straight steps have their feet behind the node: flipping the order within the layers every
+    other pair of sweeps resolves them in one pass too (measured: 24 sweeps on paper, 41 without)."""
+    vf = solve(paper, (70.0, 70.0), 15.0, 1.5, 48, clearance=4.0, reverse=True)
+    assert vf.meta["sweeps"] < 32
