@@ -3,7 +3,8 @@
     python benchmarks/bench_green.py [--arena paper]
 
 Prints, for a range of mesh sizes, the number of unknowns, the mesh + assembly +
-factorization time, the time per adjoint solve (one back-substitution), and the time of
+factorization time (the mesh column times the mesh cache when the mesh is already in it,
+``RECIPROCITY_CACHE=off`` to time meshing itself), the time per adjoint solve (one back-substitution), and the time of
 a full Algorithm-1 step (solve + imaging update + region area + estimate + next point),
 with the scaling exponent against the number of unknowns.
 """

@@ -45,12 +45,14 @@ def measure(argv: list[str], tree: Path, cwd: Path) -> tuple[float, float]:
     """Wall seconds and peak resident MB of one run of `argv` with `tree` first on the path."""
     env = dict(os.environ, PYTHONPATH=str(tree))
     t0 = time.perf_counter()
-    proc = subprocess.Popen(argv, cwd=cwd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(proc.pid, 0)
-    wall = time.perf_counter() - t0
-    proc.returncode = os.waitstatus_to_exitcode(status)
-    err = proc.stderr.read().decode()
-    proc.stderr.close()
+    # stderr goes to a file, not a pipe: a child writing more than a pipe holds would block
+    with tempfile.TemporaryFile() as errf:
+        proc = subprocess.Popen(argv, cwd=cwd, env=env, stdout=subprocess.DEVNULL, stderr=errf)
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - t0
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        errf.seek(0)
+        err = errf.read().decode(errors="replace")
     if proc.returncode != 0:
         raise RuntimeError(f"{' '.join(argv)} in {tree} exited {proc.returncode}: {err}")
     return wall, usage.ru_maxrss / 1024  # ru_maxrss is in KiB on Linux

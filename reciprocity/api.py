@@ -71,6 +71,7 @@ def check(scenario: str | Scenario | Arena, strategy: str, *, params: dict | Non
         raise SearchError(f"platform {plat!r} does not apply to {sc.world} worlds; choose one of "
                           f"{', '.join(sc.kind.platforms)}")
     n = _agents(cls, sc, agents)
+    sc.check_observers(n)
     if sc.starts is not None and 1 < len(sc.starts) < n:
         raise SearchError(f"scenario {sc.name!r} gives {len(sc.starts)} start poses for {n} agents; give "
                           "one pose (shared) or one per agent")

@@ -69,6 +69,9 @@ class WorldKind:
     check_start : callable, optional
         ``check_start(params, starts)``: refuse start poses (n, 3) outside the world that
         `params` (checked) describe, cheaply, before any world is built.
+    check_observers : callable, optional
+        ``check_observers(params, n)``: refuse a world that cannot be what `params` says
+        with `n` observers (e.g. a sensor fault given to an observer the run does not have).
     """
 
     name: str
@@ -77,6 +80,7 @@ class WorldKind:
     platforms: dict
     default_start: Callable | None = None
     check_start: Callable | None = None
+    check_observers: Callable | None = None
 
 
 #: World kinds by name; a built-in kind's module is imported on first use of its name.
@@ -176,6 +180,15 @@ class Scenario:
             out = replace(out, success_radius=number(success_radius, "success_radius", 0.0, MAX_COORD, where=pre,
                                                      lo_open=True))
         return out
+
+    def check_observers(self, n: int) -> None:
+        """Refuse running this scenario's world with `n` observers when its parameters
+        need others (SearchError naming the key); cheap, before any world is built."""
+        if self.kind.check_observers is not None:
+            try:
+                self.kind.check_observers(self.params, n)
+            except SearchError as exc:
+                raise SearchError(f"scenario {self.name!r}: {exc}") from None
 
     def build_world(self, seed: int):
         """The world of an episode with seed `seed` (its random parts drawn from it)."""

@@ -10,7 +10,8 @@ the searcher node are per particle. Arrays: ``source`` (N, 2), ``node`` (N,), ``
 (N,), ``q`` (N, L) float32.
 
 A reading that carries a position fix (``data["fix"]``: the lattice world's oracle
-``localisation: known``) puts every particle's searcher node there before it is weighed.
+``localisation: known``) is a perfect position sensor: particles whose node differs lose
+their weight (their slips or map were wrong), then every particle stands on the fix.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import logsumexp
 
+from ..errors import SearchError
 from ..models.lattice import MIN_DISTANCE, log_evidence, log_gain
 from ..observations import Observation
 from ..spaces.lattice import LatticeSpace
@@ -179,14 +181,19 @@ class RBPFBelief(Belief):
         """Weigh, update the sufficient statistics, resample (Algorithm 1, lines 7–18)."""
         count = float(obs.value)
         data = obs.data or {}
-        if data.get("fix") is not None:       # a position sensor (an oracle): the node is known
+        fix_logw = 0.0
+        if data.get("fix") is not None:       # a perfect position sensor (an oracle)
             fix = int(self.space.index_of(np.asarray(data["fix"], dtype=float))[0])
-            if fix >= 0:
-                self.node[:] = fix
+            if fix < 0:
+                raise SearchError(f"a position fix must be a lattice node; got {data['fix']!r}")
+            # its likelihood is 1 where a particle's node is the fix, 0 elsewhere: particles whose
+            # slips or map put them elsewhere lose their weight, then all stand on the fix
+            fix_logw = np.where(self.node == fix, 0.0, np.log(LOG_FLOOR))
+            self.node[:] = fix
         z1 = np.asarray(data.get("primary", [-1] * 4), dtype=int)
         z2 = np.asarray(data.get("secondary", [-1] * 4), dtype=int)
         c = self.c()
-        logw = log_evidence(count, self.eta, self.theta, c)                    # eq. (38)
+        logw = log_evidence(count, self.eta, self.theta, c) + fix_logw         # eq. (38)
         rows, lid, z, pd, pfa = self._links(z1, z2)
         if rows.size:
             has = lid >= 0

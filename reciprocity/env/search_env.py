@@ -79,6 +79,7 @@ class SearchEnv:
             raise SearchError(f"platform {self.platform_name!r} does not apply to {self.scenario.world} worlds; "
                               f"choose one of {', '.join(self.scenario.kind.platforms)}")
         self.n_agents = whole(self.scenario.agents if agents is None else agents, "agents", 1, MAX_AGENTS)
+        self.scenario.check_observers(self.n_agents)
         starts = self.scenario.starts
         if starts is not None and 1 < len(starts) < self.n_agents:
             raise SearchError(f"scenario {self.scenario.name!r} gives {len(starts)} start poses for "

@@ -9,7 +9,6 @@ stiffness matrix is symmetric.
 from __future__ import annotations
 
 import hashlib
-import os
 import time
 from collections import OrderedDict
 from typing import TYPE_CHECKING, Callable
@@ -21,7 +20,8 @@ from arenas import Arena, as_points
 
 from ..errors import ReciprocityError
 from .locate import TriangleLocator
-from .mesh import cache_dir, cached_mesh
+from .disk_cache import cache_dir, read_arrays, write_arrays
+from .mesh import cached_mesh
 
 if TYPE_CHECKING:
     import skfem
@@ -404,7 +404,7 @@ class GreenSolver:
         z : array_like, shape (2,)
             Observation point in the free region, cm.
         cached : bool
-            Keep the result on disk (under :func:`~reciprocity.fem.mesh.cache_dir`, by this
+            Keep the result on disk (under :func:`~reciprocity.fem.disk_cache.cache_dir`, by this
             solver's mesh, elements, walls and `z`, at most GREEN_CACHE_SIZE of them) and
             read it from there when present: the very numbers of the solve, without
             assembling or factorizing. For fields solved again in every process, such as
@@ -414,17 +414,12 @@ class GreenSolver:
         name = f"G(., ({z[0]:.4g}, {z[1]:.4g}))"
         path = self._green_path(z) if cached else None
         if path is not None:
-            try:
-                with np.load(path) as data:
-                    dofs = data["dofs"]
-                if dofs.shape == (self.basis.N,):
-                    os.utime(path)  # recently used: pruned last
-                    return Field(self, dofs, name)
-            except (OSError, KeyError, ValueError):
-                pass
+            data = read_arrays(path, ("dofs",))
+            if data is not None and data["dofs"].shape == (self.basis.N,):
+                return Field(self, data["dofs"], name)
         dofs = self.solve(self.point_sources(z))
         if path is not None:
-            _store(path, dofs)
+            write_arrays(path, keep=GREEN_CACHE_SIZE, dofs=dofs)
         return Field(self, dofs, name)
 
     def _green_path(self, z: np.ndarray):
@@ -432,7 +427,11 @@ class GreenSolver:
         folder = cache_dir()
         if folder is None:
             return None
-        key = hashlib.sha256(f"{GREEN_FORMAT}|{self.order}|{self.walls}|{self.arena.circle!r}".encode())
+        import scipy
+        import skfem
+        # the libraries' versions: an upgrade must not leave results depending on a warm cache
+        key = hashlib.sha256(f"{GREEN_FORMAT}|{scipy.__version__}|{skfem.__version__}|{self.order}|"
+                             f"{self.walls}|{self.arena.circle!r}".encode())
         for a in (self._mesh1.p, self._mesh1.t, z):
             key.update(np.ascontiguousarray(a).tobytes())
         return folder / "greens" / f"{key.hexdigest()[:32]}.npz"
@@ -484,19 +483,3 @@ class GreenSolver:
     def __repr__(self) -> str:
         return (f"GreenSolver(arena={self.arena.name!r}, h={self.h}, order={self.order}, "
                 f"walls={self.walls!r}, unknowns={self.n_unknowns})")
-
-
-def _store(path, dofs: np.ndarray) -> None:
-    """Write `dofs` to `path` (atomically) and prune the folder to GREEN_CACHE_SIZE files,
-    least recently used first; a cache that cannot be written is passed over silently."""
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, dofs=dofs)
-        os.replace(tmp, path)
-        files = sorted((f for f in path.parent.glob("*.npz") if ".tmp." not in f.name),
-                       key=lambda f: f.stat().st_mtime)
-        for old in files[:max(0, len(files) - GREEN_CACHE_SIZE)]:
-            old.unlink(missing_ok=True)
-    except OSError:
-        pass

@@ -10,8 +10,6 @@ optimal order, so the local mesh size is graded as ``h(r) = h * (r/R)**gamma`` w
 from __future__ import annotations
 
 import hashlib
-import os
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -19,6 +17,7 @@ import numpy as np
 from arenas import Arena
 
 from ..errors import MeshError
+from .disk_cache import cache_dir, read_arrays, write_arrays
 
 if TYPE_CHECKING:
     import skfem
@@ -26,7 +25,7 @@ if TYPE_CHECKING:
 # scikit-fem and Triangle are imported by the functions that mesh, so that the nodal
 # helpers below and the modules importing this one load without them (issue 24).
 
-__all__ = ["mesh_free_region", "cached_mesh", "cache_dir", "reentrant_corners", "triangle_areas", "node_areas"]
+__all__ = ["mesh_free_region", "cached_mesh", "reentrant_corners", "triangle_areas", "node_areas"]
 
 # Triangle's max-area bound giving a mean edge length close to h with 30-degree quality
 # (measured: an area bound of sqrt(3)/4 h^2 yields a mean edge of 0.82 h)
@@ -162,15 +161,6 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
 MESH_FORMAT = 1
 
 
-def cache_dir() -> Path | None:
-    """Where meshes are cached: ``$RECIPROCITY_CACHE`` (``off`` disables the cache), else
-    ``~/.cache/reciprocity``."""
-    env = os.environ.get("RECIPROCITY_CACHE")
-    if env is not None and env.strip().lower() in ("off", "0", "none", ""):
-        return None
-    return Path(env).expanduser() if env else Path.home() / ".cache" / "reciprocity"
-
-
 def cached_mesh(arena: Arena, h: float, *, grading: float | None = 0.5) -> skfem.MeshTri:
     """:func:`mesh_free_region`, kept on disk by the arena's geometry, `h` and `grading`.
 
@@ -189,17 +179,9 @@ def cached_mesh(arena: Arena, h: float, *, grading: float | None = 0.5) -> skfem
     for ring in (arena.boundary, *arena.obstacles):
         key.update(np.ascontiguousarray(ring, dtype=float).tobytes())
     path = folder / "meshes" / f"{key.hexdigest()[:32]}.npz"
-    try:
-        with np.load(path) as data:
-            return skfem.MeshTri(np.ascontiguousarray(data["p"]), np.ascontiguousarray(data["t"]))
-    except (OSError, KeyError, ValueError):
-        pass
+    data = read_arrays(path, ("p", "t"))
+    if data is not None:
+        return skfem.MeshTri(np.ascontiguousarray(data["p"]), np.ascontiguousarray(data["t"]))
     mesh = mesh_free_region(arena, h, grading=grading)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, p=mesh.p, t=mesh.t)
-        os.replace(tmp, path)
-    except OSError:
-        pass
+    write_arrays(path, p=mesh.p, t=mesh.t)
     return mesh

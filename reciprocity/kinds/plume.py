@@ -249,4 +249,14 @@ def _check_start(params: dict, starts: np.ndarray) -> None:
     starts_in_box(starts, (x0, x1, y0, y1), "plume bounds")
 
 
-PLUME = register_world(WorldKind("plume", _check, _build, {"walker": _walker}, _default_start, _check_start))
+def _check_observers(params: dict, n: int) -> None:
+    """A sensor fault must belong to an observer of the run: a faulty entry beyond the
+    `n` observers would leave the world matched while the summary said otherwise."""
+    idle = [k for k, f in enumerate(params.get("sensors", ())) if k >= n and not f.healthy]
+    if idle:
+        raise SearchError(f"plume sensors[{idle[0]}] is a fault of observer {idle[0] + 1}, but the run has "
+                          f"{n} observer(s); run with at least {idle[-1] + 1} agents or drop the entry")
+
+
+PLUME = register_world(WorldKind("plume", _check, _build, {"walker": _walker}, _default_start, _check_start,
+                                 _check_observers))

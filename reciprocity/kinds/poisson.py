@@ -10,7 +10,7 @@ from arenas import Arena, ArenaError
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import number, point
-from ..worlds.poisson import Mismatch, PoissonWorld, TRUTH_H
+from ..worlds.poisson import Mismatch, PoissonWorld, TRUTH_H, shifted_walls
 
 __all__ = ["POISSON", "POISSON_KEYS"]
 
@@ -61,6 +61,9 @@ def _check(params: dict) -> dict:
     if not isinstance(m, dict):
         raise SearchError(f"mismatch must be a mapping of options; got {m!r}")
     out["mismatch"] = Mismatch.from_dict(m)
+    # the true walls must make a valid arena too (overlapping grown obstacles, a source
+    # swallowed by one): refused here, before any episode, not in every episode
+    shifted_walls(arena, out["mismatch"].wall_shift)
     return out
 
 

@@ -233,9 +233,14 @@ class FreeEnergyInfotaxis(PlumeSearch):
         ``alpha · (L / 100)^area_exponent`` with ``L`` the square root of the area (the
         task's bounds, length unit). 0 (default): the paper's one ``alpha`` at every size.
         The printed ``alpha`` leaves the temperature deciding under 1 % of the moves at
-        every size, and the ``alpha`` that decides half of them grows about as ``L^2.35``
-        (``benchmarks/song_temperature.py``; the derivation is in the doc of
-        :mod:`reciprocity.campaign.tables.song2019`).
+        every size; why, and how the ``alpha`` that decides about half of them grows with
+        the area, is in the doc of :mod:`reciprocity.campaign.tables.song2019`.
+
+    Attributes
+    ----------
+    alpha_used : float
+        The temperature's factor in force for the current task (``alpha`` scaled to its
+        area, see `area_exponent`).
     """
 
     name = "free-energy"
@@ -246,6 +251,8 @@ class FreeEnergyInfotaxis(PlumeSearch):
         self.beta = positive(beta, "beta")
         self.gamma = positive(gamma, "gamma")
         self.area_exponent = number(area_exponent, "area_exponent", 0.0, 10.0)
+        #: the temperature's factor in force: `alpha`, scaled to the task's area by :meth:`start`
+        self.alpha_used = self.alpha
         super().__init__(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
 
     def params(self) -> dict:
@@ -255,11 +262,13 @@ class FreeEnergyInfotaxis(PlumeSearch):
     def start(self, ctx: SearchContext) -> None:
         (x0, x1), (y0, y1) = ctx.nominal["bounds"]
         side = float(np.sqrt((x1 - x0) * (y1 - y0)))
-        #: the temperature's factor in force for this task's area
         self.alpha_used = self.alpha * (side / 100.0) ** self.area_exponent
         super().start(ctx)
 
-    def scores(self, cands):
+    def terms(self, cands) -> tuple[np.ndarray, np.ndarray]:
+        """The two terms of the expected free energy of each candidate, eqs. (8)–(10):
+        ``E_z{W}`` (length^γ) and ``E_z{tr(Σ)^β S}`` (length^2β · nats), so that the
+        score is ``E_z{W} + α E_z{tr(Σ)^β S}``; shapes (m,)."""
         joint, _, dist = self.belief.outcomes(cands, eta=self.eta)
         rho, H, P = posterior_entropies(joint)
         Ps = np.maximum(P, 1e-300)
@@ -268,11 +277,14 @@ class FreeEnergyInfotaxis(PlumeSearch):
         mean = np.einsum("zmi,ic->zmc", joint, x) / Ps[..., None]
         second = np.einsum("zmi,i->zm", joint, np.sum(x * x, axis=1)) / Ps
         tr = np.maximum(second - np.sum(mean ** 2, axis=2), 0.0)
-        F = W + self.alpha_used * tr ** self.beta * H                              # eq. (8)
-        return np.sum(rho * F, axis=0)                                             # eq. (10)
+        return np.sum(rho * W, axis=0), np.sum(rho * tr ** self.beta * H, axis=0)   # eq. (10)
+
+    def scores(self, cands):
+        potential, temperate = self.terms(cands)
+        return potential + self.alpha_used * temperate                              # eq. (8)
 
     def free_energy(self, alpha=None, beta=None, gamma=None) -> float:
-        return super().free_energy(getattr(self, "alpha_used", self.alpha), self.beta, self.gamma)
+        return super().free_energy(self.alpha_used, self.beta, self.gamma)
 
 
 @register

@@ -151,7 +151,8 @@ class PlumeWorld(World):
         Further keys of :meth:`nominal` (motion, dt, initial hit, hit-count cap).
     sensors : sequence of SensorFault, optional
         Observer k's sensor fault, as observer k's start in a scenario's ``start`` list:
-        observers beyond the list are healthy, entries beyond the observers unused.
+        observers beyond the list are healthy (a faulty entry beyond the run's observers
+        is refused by the scenario's ``check_observers``).
     """
 
     kind = "plume"
@@ -191,6 +192,6 @@ class PlumeWorld(World):
     def describe(self) -> dict:
         out = dict(plume=self.params.as_dict(), mismatch=self.mismatch.as_dict(),
                    found_radius=self.found_radius, initial_hit=self._extra.get("initial_hit"))
-        if any(not f.healthy for f in self.sensors):
+        if any(not f.healthy for f in self.sensors):      # the env refuses faults beyond its observers
             out["sensors"] = [f.as_dict() for f in self.sensors]
         return out

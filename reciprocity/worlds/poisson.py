@@ -37,8 +37,9 @@ TRUTH_GRADING = 0.75
 @lru_cache(maxsize=8)
 def truth_solver(arena: Arena, h: float) -> GreenSolver:
     """The truth's own solver of `arena` (its true walls) at mesh size `h` (cm): P2 elements
-    on its own graded mesh, factorized and cached for the truth alone, so no strategy ever
-    holds it (a strategy's solvers come from :func:`reciprocity.models.green.cached_solver`)."""
+    on its own graded mesh, kept for the truth alone (it factorizes on its first solve, and
+    its true signal comes from the disk cache of Green's functions when there), so no
+    strategy ever holds it (a strategy's solvers come from :func:`reciprocity.models.green.cached_solver`)."""
     return GreenSolver(arena, h=h, order=TRUTH_ORDER, grading=TRUTH_GRADING)
 
 

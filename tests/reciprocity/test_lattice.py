@@ -346,9 +346,14 @@ def test_a_position_fix_is_an_oracle_the_scenario_must_ask_for():
     r = fixed.read(node, time=0, dwell=1, rng=rng)
     assert r.data["fix"] == node
     b = _belief(400)
-    b.node[:] = int(b.space.index_of([0, 0])[0])
-    b.update(Observation([0, 0], r.value, kind="hits", data={**r.data, "primary": [-1] * 4, "secondary": [-1] * 4}))
+    b.node[:200] = int(b.space.index_of(node)[0])               # where the fix says
+    b.node[200:] = int(b.space.index_of([0, 0])[0])             # where slips or a wrong map put them
+    b.source[:200], b.source[200:] = [3.0, 3.0], [-3.0, -3.0]
+    b.update(Observation([0, 0], 0.0, kind="hits", data={"fix": node, "primary": [-1] * 4, "secondary": [-1] * 4}))
     assert np.all(b.node == b.space.index_of(node)[0])
+    assert np.allclose(b.source, [3.0, 3.0]), "particles off the fix must lose their weight"
+    with pytest.raises(SearchError, match="must be a lattice node"):
+        b.update(Observation([0, 0], 0.0, kind="hits", data={"fix": [0.5, 0.0]}))
     s = run("ristic-lattice-paper", "rbpf", seed=2, params={"n_particles": 200, "n_gain": 20},
             world={"localisation": "known", "source": [2, -5]}).summary
     assert s["localisation_known"] is True

@@ -211,6 +211,13 @@ def test_voi_team_shares_messages_and_voi_sends_fewer():
     assert alone.summary["n_agents"] == 3 and alone.summary["messages"] == 0
 
 
+@pytest.mark.parametrize("strategy, agents", [("infotaxis", None), ("voi", 2)])
+def test_a_fault_given_to_an_observer_the_run_lacks_is_refused(strategy, agents):
+    with pytest.raises(SearchError, match=r"sensors\[2\] is a fault of observer 3, but the run has") as exc:
+        run("hajieghrary-dead-sensor", strategy, agents=agents, params=QUICK)
+    assert "\n" not in str(exc.value)
+
+
 def test_a_dead_sensor_reads_nothing_in_a_team_run():
     sc = replace(load_scenario("hajieghrary-dead-sensor"), max_steps=300)
     ep = run(sc, "voi", seed=2, params=dict(QUICK, share="none"))

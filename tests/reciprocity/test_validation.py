@@ -70,3 +70,11 @@ def test_a_team_may_share_one_start_or_have_one_each():
     assert from_dict({"world": "poisson", "arena": "empty", "agents": 2, "start": [20, 20]}).starts.shape == (1, 3)
     sc = from_dict({"world": "poisson", "arena": "empty", "agents": 2, "start": [[20, 20, 0], [30, 30, 90]]})
     assert sc.starts[1, 2] == pytest.approx(math.pi / 2)
+
+
+def test_a_wall_shift_that_breaks_the_arena_is_refused_before_any_episode():
+    from reciprocity.api import check
+    with pytest.raises(SearchError, match="wall_shift of 2 cm makes arena 'paper' invalid") as exc:
+        check("paper", "reciprocity", world={"mismatch": {"wall_shift": 2.0}})
+    assert "\n" not in str(exc.value)
+    check("paper", "reciprocity", world={"mismatch": {"wall_shift": 1.0}})

@@ -47,8 +47,9 @@ Verdicts:
 - **Sharing everything misleads, as the paper argues**, once one sensor is wrong. With
   every sensor right, sharing all is the fastest team (2.2× faster than independent
   searchers). A dead sensor on the searcher nearest the source makes sharing all 2.5×
-  slower (72.6 → 181.1 steps), slower than not sharing at all. Its null readings near the
-  plume dilute the others' hits, exactly the paper's Section 3.3.1 example.
+  slower (72.6 → 181.1 steps), no faster than not sharing at all (159.9; the intervals
+  overlap). The mechanism the paper names, null readings near the plume diluting the
+  others' hits, fits this, but we did not measure it separately.
 - **Value-of-information filtering protects against the dead sensor** (135.9 → 133.3
   steps, unchanged). A null reading is unsurprising under a teammate's belief, so it
   rarely passes the threshold: 33 readings taken per run, against 34 in the matched world.

@@ -42,13 +42,63 @@ With ε = 0.1 the region holds 16 900 of the arena's 19 600 cm² after 30 readin
 estimate; the fewest readings (10.5 at ε = 0.9, A_ε = 1000 cm²) come with 10 % success.
 So the paper's 7 readings are not explained by its stop parameters alone. Our product of
 the maps (the default) narrows in 4 readings.
+
+**Which testbed imperfection gives the paper's errors?** The paper reports of its testbed
+only the sensor's curve and noise, both modelled, and one error per strategy: 4.35 cm
+(reciprocity) and 5 cm (gradient), against our 0.7 and 2.0 cm on a matched testbed.
+Each imperfection alone, on the car with our defaults (``benchmarks/landa_testbed_mismatch.yaml``,
+10 runs per cell; mean error in cm with its Student-t 95 % interval, then readings or
+samples; a wall shift of 2 cm makes the paper arena's obstacles overlap, so +1 cm):
+
+=========================  ==========================  ==========================
+true world                 reciprocity: error, reads   gradient: error, samples
+=========================  ==========================  ==========================
+matched                    1.01 [0.29, 1.74], 4.0      2.42 [1.27, 3.56], 18.8
+print tone γ 0.7           10.4 [6.4, 14.3], 3.9       2.17 [1.16, 3.19], 19.8
+print tone γ 0.85          5.12 [4.27, 5.98], 3.4      1.55 [1.11, 1.99], 19.6
+print tone γ 1.2           5.73 [2.96, 8.50], 4.2      2.07 [1.10, 3.04], 16.2
+print tone γ 1.5           13.8 [9.8, 17.7], 4.2       2.00 [1.12, 2.88], 16.1
+strength × 0.7             9.42 [7.64, 11.19], 4.0     1.78 [0.96, 2.60], 20.3
+strength × 0.85            2.87 [1.87, 3.87], 4.0      2.02 [1.36, 2.68], 19.4
+strength × 1.2             4.13 [3.46, 4.79], 3.6      3.36 [1.78, 4.94], 20.3
+strength × 1.5             6.05 [5.56, 6.55], 3.7      4.87 [3.91, 5.84], 24.3
+walls shifted −2 cm        2.19 [1.21, 3.18], 4.0      2.35 [1.57, 3.13], 20.0
+walls shifted +1 cm        0.66 [0.39, 0.93], 4.0      1.66 [0.95, 2.38], 19.9
+=========================  ==========================  ==========================
+
+The gradient's error is insensitive to everything but a stronger source (it climbs the
+true field, whatever its scale); the reciprocity search's error follows every error in
+the signal's scale or tone, and the wall placement moves neither. Only a source about
+20-50 % stronger than assumed (or, the same to both strategies, a calibration 20-50 % off
+in gain) brings both errors to the paper's: at × 1.2 the paper's 4.35 cm lies inside our
+interval and its 5 cm at the edge of the gradient's. ``--protocol testbed`` runs the 20-run
+table on that testbed (``TESTBED_MISMATCH``). The readings move with none of these (3.4-4.2
+against the paper's 7): the paper's seven readings come from its stop rule, not its
+testbed (above).
+
+``reproduce landa2020-testbed --protocol testbed`` (20 runs on the car; means with
+Student-t 95 % intervals, and where the paper's single run falls among ours):
+
+========================  =====  ======================  =====================================
+row                       paper  ``--protocol testbed``  verdict
+========================  =====  ======================  =====================================
+reciprocity readings      7      3.80 [3.51, 4.09]       not reproduced (the stop rule, above)
+reciprocity error, cm     4.35   3.71 [3.19, 4.23]       reproduced: the paper's run is our
+                                                         median run (50 % of ours ≥ 4.35)
+gradient samples          18     19.9 [19.1, 20.7]       reproduced within 10 %
+gradient error, cm        5      2.92 [2.05, 3.78]       plausible: 20 % of our runs ≥ 5 cm
+========================  =====  ======================  =====================================
 """
 
 from __future__ import annotations
 
 from ..paper_table import PaperTable, PaperValue, register
 
-__all__ = ["LANDA2020_TESTBED"]
+__all__ = ["LANDA2020_TESTBED", "TESTBED_MISMATCH"]
+
+#: The testbed imperfection of ``--protocol testbed``: inferred from the paper's two errors
+#: (see the module doc), not reported by the paper.
+TESTBED_MISMATCH = {"strength_factor": 1.2}
 
 LANDA2020_TESTBED = register(PaperTable(
     name="landa2020-testbed",
@@ -73,5 +123,14 @@ LANDA2020_TESTBED = register(PaperTable(
         "preset='paper' (step 13's nearest point, eq. (8)'s mean, sigma the noise, no extent or "
         "tail rule), gradient ascent stopping at I_max only (stop_radius=0, stall_steps=0). The "
         "paper reports one run of each (no interval); ours differ in the sensor noise and the "
-        "car's actuation only.")},
+        "car's actuation only."),
+        "testbed": (
+        lambda runs: {"strategies": ["reciprocity", "gradient"], "platform": "car", "seeds": runs,
+                      "scenarios": [{"name": "paper", "label": "paper-testbed",
+                                     "world": {"mismatch": dict(TESTBED_MISMATCH)}}]},
+        "Protocol 'testbed': our defaults on a testbed whose signal is 20 % stronger than the "
+        "strategies assume (mismatch strength_factor 1.2, equivalently a sensor calibration "
+        "20 % off in gain): of the imperfections swept one at a time "
+        "(benchmarks/landa_testbed_mismatch.yaml), the one that brings both strategies' errors "
+        "to the paper's (4.35 and 5 cm). Inferred from the paper's two errors, not reported by it.")},
 ))
