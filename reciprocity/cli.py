@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -136,10 +137,12 @@ def cmd_arenas(args) -> int:
 
 def cmd_scenarios(args) -> int:
     from .scenarios import load_scenario, scenario_description, scenario_names
-    print(f"{'name':<22} {'world':<9} {'platform':<8}  description")
-    for name in scenario_names():
+    names = scenario_names()
+    wn = max(len(n) for n in names)
+    print(f"{'name':<{wn}} {'world':<9} {'platform':<8}  description")
+    for name in names:
         sc = load_scenario(name)
-        print(f"{name:<22} {sc.world:<9} {sc.platform:<8}  {scenario_description(name)}")
+        print(f"{name:<{wn}} {sc.world:<9} {sc.platform:<8}  {scenario_description(name)}")
     return 0
 
 
@@ -408,6 +411,11 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # the reader left (`reciprocity scenarios | head`): no traceback; stdout is pointed
+        # at devnull so that the interpreter's final flush does not fail again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":

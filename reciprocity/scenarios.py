@@ -242,7 +242,8 @@ def _check_starts(kind: WorldKind, params: dict, starts, where: str) -> None:
 def _scenario_files() -> dict:
     if not _FILES:
         folder = resources.files("reciprocity") / "data" / "scenarios"
-        for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+        # by name, so that a scenario comes before its variants (hajieghrary, hajieghrary-dead-sensor)
+        for entry in sorted(folder.iterdir(), key=lambda e: e.name.removesuffix(".yaml")):
             if entry.name.endswith(".yaml"):
                 _FILES[entry.name[:-5]] = entry
     return _FILES

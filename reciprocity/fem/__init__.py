@@ -14,7 +14,7 @@ import lazy_loader as _lazy
 
 __getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={
     "exact": ["disk_green", "free_space_green"],
-    "green": ["Field", "GreenSolver"],
+    "green": ["Field", "GreenSolver", "GREEN_CACHE_SIZE"],
     "disk_cache": ["cache_dir"],
     "mesh": ["cached_mesh", "mesh_free_region", "node_areas", "reentrant_corners", "triangle_areas"],
 })

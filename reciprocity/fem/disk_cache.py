@@ -16,7 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["cache_dir", "read_arrays", "write_arrays", "STALE_TMP_S"]
+# read_arrays and write_arrays serve this package's modules; the package exports cache_dir
+__all__ = ["cache_dir"]
 
 #: Temporary files older than this (s) are left-overs of a writer that died: pruned.
 STALE_TMP_S = 3600.0

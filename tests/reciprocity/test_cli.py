@@ -189,3 +189,19 @@ def test_the_demo_takes_a_plain_arena_file(tmp_path, monkeypatch, capsys):
     rows = json.loads((tmp_path / "d" / "summary.json").read_text())
     assert [r["strategy"] for r in rows] == ["reciprocity", "gradient"]
     assert all(r["source"] == [70.21, 70.21] for r in rows)
+
+
+@pytest.mark.parametrize("command", ["scenarios", "strategies", "arenas"])
+def test_a_reader_that_leaves_early_gets_no_traceback(command):
+    """`reciprocity scenarios | head -2`: the listing meets a closed pipe and exits quietly."""
+    import os
+    import subprocess
+    import sys
+    r, w = os.pipe()
+    os.close(r)                                   # the reader is already gone
+    try:
+        done = subprocess.run([sys.executable, "-c", f"import sys, reciprocity.cli as c; sys.exit(c.main([{command!r}]))"],
+                              stdout=w, stderr=subprocess.PIPE, text=True, timeout=120)
+    finally:
+        os.close(w)
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
