@@ -161,6 +161,21 @@ def check_cluster(workers: int | None = None, scheduler: str | None = None,
     return None
 
 
+#: Dask settings of the local cluster's workers (a remote cluster keeps its own). Dask's
+#: nanny starts workers with ``MALLOC_TRIM_THRESHOLD_=65536``, which also freezes glibc's
+#: mmap threshold at 128 KB: every array of more than 16k floats is then mapped and unmapped
+#: anew, and an episode runs 1.5x slower (point episodes on `paper`: 214 against 139 ms).
+#: Thresholds of 64 and 32 MiB keep such arrays on the heap (135 ms). The statistical
+#: profiler samples every task's stack every 10 ms; nobody reads it here. Measured in
+#: benchmarks/LIMITS.md ("campaign, 2 workers against 1"). Variables already set in the
+#: environment win over these.
+LOCAL_WORKER_CONFIG = {
+    "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": 64 * 2**20,
+    "distributed.nanny.pre-spawn-environ.MALLOC_MMAP_THRESHOLD_": 32 * 2**20,
+    "distributed.worker.profile.enabled": False,
+}
+
+
 @contextlib.contextmanager
 def dask_client(workers: int | None = None, scheduler: str | None = None, *,
                 tls: TLSFiles | None = None, timeout: float = CONNECT_TIMEOUT_S) -> Iterator:
@@ -190,6 +205,7 @@ def dask_client(workers: int | None = None, scheduler: str | None = None, *,
         Both or invalid `workers`/`scheduler`, TLS files that do not fit the address or
         do not load, or no scheduler answering in time.
     """
+    import dask
     from distributed import Client, LocalCluster
     security = check_cluster(workers, scheduler, tls)
     if scheduler is not None:
@@ -205,7 +221,8 @@ def dask_client(workers: int | None = None, scheduler: str | None = None, *,
     n = check_workers(workers if workers is not None else min(os.cpu_count() or 1, max_workers()))
     # no dashboard; the scheduler's health/metrics HTTP server on a free port (its default,
     # 8787, warns "already in use" as soon as two campaigns or test workers run at once)
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                      scheduler_kwargs={"dashboard_address": ":0"},
-                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+    with dask.config.set(LOCAL_WORKER_CONFIG), \
+            LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                         scheduler_kwargs={"dashboard_address": ":0"},
+                         silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
         yield client

@@ -3,12 +3,14 @@
 The driver keeps a bounded window of episodes in flight (a sliding window over
 ``as_completed``), so its memory does not grow with the campaign; finished rows are
 buffered and written as one Parquet batch every `flush_rows` rows or `flush_seconds`
-seconds. Episodes already in the folder are skipped, so re-running the same command
+seconds. Episodes travel in chunks of up to :data:`MAX_CHUNK` (one Dask task each),
+smaller as the campaign nears its end so that no worker waits on another's last chunk. Episodes already in the folder are skipped, so re-running the same command
 resumes a campaign, even one whose driver was killed.
 """
 
 from __future__ import annotations
 
+import itertools
 import sys
 import time
 import uuid
@@ -18,9 +20,20 @@ from pathlib import Path
 from .cluster import CONNECT_TIMEOUT_S, TLSFiles, check_cluster, dask_client
 from .spec import CampaignSpec
 from .store import ResultStore
-from .worker import _one_line, cache_stats, failure_row, run_task
+from .worker import _one_line, cache_stats, failure_row, run_tasks
 
-__all__ = ["CampaignResult", "run_campaign"]
+__all__ = ["CampaignResult", "run_campaign", "MAX_CHUNK", "chunk_size"]
+
+#: Most episodes in one Dask task. A task costs the driver about 10 ms of CPU on the cores
+#: the workers share; point episodes take 0.1-0.2 s (benchmarks/LIMITS.md, "campaign").
+MAX_CHUNK = 8
+
+
+def chunk_size(left: int, threads: int) -> int:
+    """Episodes in the next task when `left` episodes remain for `threads` worker threads:
+    up to :data:`MAX_CHUNK`, and at most a quarter of each thread's share, so that the
+    last tasks are single episodes and every thread finishes at about the same time."""
+    return max(1, min(MAX_CHUNK, left // (4 * max(threads, 1))))
 
 
 @dataclass
@@ -118,27 +131,30 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
         with tqdm(total=spec.n_episodes, initial=result.n_skipped, unit="ep", desc=spec.name,
                   disable=not show, file=sys.stderr, dynamic_ncols=True) as bar:
             bar.set_postfix_str("failed 0")
-            _drive(client, pending, store, result, bar, window or max(16, 8 * threads),
+            _drive(client, pending, n_todo, threads, store, result, bar, window or max(16, 8 * threads),
                    flush_rows, flush_seconds)
         result.cache_stats = client.run(cache_stats)
     result.wall_time_s = time.perf_counter() - t0
     return result
 
 
-def _drive(client, pending, store: ResultStore, result: CampaignResult, bar, window: int,
-           flush_rows: int, flush_seconds: float) -> None:
-    """Keep `window` episodes in flight; store rows in batches as they finish."""
+def _drive(client, pending, n_todo: int, threads: int, store: ResultStore, result: CampaignResult, bar,
+           window: int, flush_rows: int, flush_seconds: float) -> None:
+    """Keep `window` chunks of episodes in flight; store rows in batches as they finish."""
     from distributed import as_completed
     inflight = {}
     finished = as_completed()
+    left = n_todo
 
     def submit_next() -> None:
-        task = next(pending, None)
-        if task is not None:
-            # one key prefix for every episode: the scheduler keeps a task group per prefix
-            # for its whole life, so per-episode prefixes grew the driver ~7 KB an episode
-            fut = client.submit(run_task, task, key=f"episode-{uuid.uuid4().hex}", pure=False)
-            inflight[fut.key] = task
+        nonlocal left
+        chunk = list(itertools.islice(pending, chunk_size(left, threads)))
+        if chunk:
+            left -= len(chunk)
+            # one key prefix for every task: the scheduler keeps a task group per prefix
+            # for its whole life, so per-task prefixes grew the driver ~7 KB a task
+            fut = client.submit(run_tasks, chunk, key=f"episode-{uuid.uuid4().hex}", pure=False)
+            inflight[fut.key] = chunk
             finished.add(fut)
 
     for _ in range(window):
@@ -146,18 +162,18 @@ def _drive(client, pending, store: ResultStore, result: CampaignResult, bar, win
     buffer, oldest = [], time.monotonic()
     try:
         for fut in finished:
-            task = inflight.pop(fut.key)
+            chunk = inflight.pop(fut.key)
             try:
-                row = fut.result()
+                rows = fut.result()
             except Exception as exc:  # the worker died or the task was lost
-                row = failure_row(task, f"worker lost: {_one_line(exc)}")
+                rows = [failure_row(task, f"worker lost: {_one_line(exc)}") for task in chunk]
             fut.release()
             if not buffer:
                 oldest = time.monotonic()
-            buffer.append(row)
-            result.n_run += 1
-            result.n_failed += row["error_message"] is not None
-            bar.update(1)
+            buffer.extend(rows)
+            result.n_run += len(rows)
+            result.n_failed += sum(row["error_message"] is not None for row in rows)
+            bar.update(len(rows))
             bar.set_postfix_str(f"failed {result.n_failed}", refresh=False)
             if len(buffer) >= flush_rows or time.monotonic() - oldest >= flush_seconds:
                 store.write(buffer)

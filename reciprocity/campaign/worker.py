@@ -23,7 +23,7 @@ import numpy as np
 from ..scenarios import Scenario, load_scenario
 from .spec import SOURCE_CLEARANCE, START_CLEARANCE, EpisodeTask, entry_scenario, world_overrides
 
-__all__ = ["run_task", "execute_task", "failure_row", "scenario", "world_draw",
+__all__ = ["run_task", "run_tasks", "execute_task", "failure_row", "scenario", "world_draw",
            "cache_stats"]
 
 #: Stream of the episode seed that the world draws (source, start) come from; the
@@ -112,6 +112,12 @@ def run_task(task: EpisodeTask) -> dict:
     except Exception as exc:  # a failing episode is a result, not the end of the campaign
         return failure_row(task, _one_line(exc))
     return {**_task_columns(task), **summary, "error_message": None}
+
+
+def run_tasks(tasks: list[EpisodeTask]) -> list[dict]:
+    """:func:`run_task` for each of `tasks`, in order: one Dask task for several short
+    episodes, so that the scheduler's per-task cost is paid once for all of them."""
+    return [run_task(task) for task in tasks]
 
 
 def failure_row(task: EpisodeTask, message: str) -> dict:
