@@ -24,7 +24,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -158,23 +157,17 @@ def bank_command_time() -> float:
 
 def compare(ref: str, rounds: int, threads: int, bank: bool) -> None:
     """Before (git ref) against after (the working tree), alternating fresh processes."""
-    with tempfile.TemporaryDirectory(prefix="bench_hjplanner_") as tmp:
-        before = Path(tmp) / "before"
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "--quiet", str(before), ref],
-                       check=True)
-        try:
-            results = {"before": [], "after": []}
-            for _ in range(rounds):
-                for label, tree in (("before", before), ("after", ROOT)):
-                    code = (f"import json, sys; sys.path.insert(0, {str(ROOT / 'benchmarks')!r}); "
-                            f"import bench_hjplanner as b; print(json.dumps(b.measure({threads}, {bank})))")
-                    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tree)] + sys.path[1:]))
-                    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
-                                         env=env, cwd=tmp)
-                    results[label].append(json.loads(run.stdout.strip().splitlines()[-1]))
-        finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(before)], check=True)
-            shutil.rmtree(before, ignore_errors=True)
+    from reference_tree import reference_tree
+    with reference_tree(ref, "bench_hjplanner_") as (before, tmp):
+        results = {"before": [], "after": []}
+        for _ in range(rounds):
+            for label, tree in (("before", before), ("after", ROOT)):
+                code = (f"import json, sys; sys.path.insert(0, {str(ROOT / 'benchmarks')!r}); "
+                        f"import bench_hjplanner as b; print(json.dumps(b.measure({threads}, {bank})))")
+                env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tree)] + sys.path[1:]))
+                run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                                     env=env, cwd=tmp)
+                results[label].append(json.loads(run.stdout.strip().splitlines()[-1]))
     print(f"before: {ref}; after: the working tree; {threads} thread(s); best of {rounds} alternating rounds; "
           f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")
     print("| what | before | after | ratio | anchor (HFM, issue) |")

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import shutil
 import statistics
 import subprocess
 import sys
@@ -90,19 +89,13 @@ def main() -> None:
     parser.add_argument("--before", required=True, help="git ref of the reference tree, e.g. 1f8c377")
     parser.add_argument("--repeat", type=int, default=7, help="runs per start-up command (default 7)")
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory(prefix="bench_startup_") as tmp:
-        before = Path(tmp) / "before"
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "--quiet", str(before),
-                        args.before], check=True)
-        try:
-            for tree in (before, ROOT):
-                check_tree(tree)
-            work = Path(tmp) / "cwd"
-            work.mkdir()
-            rows = compare(before, ROOT, args.repeat, work)
-        finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(before)], check=True)
-            shutil.rmtree(before, ignore_errors=True)
+    from reference_tree import reference_tree
+    with reference_tree(args.before, "bench_startup_") as (before, tmp):
+        for tree in (before, ROOT):
+            check_tree(tree)
+        work = tmp / "cwd"
+        work.mkdir()
+        rows = compare(before, ROOT, args.repeat, work)
     print(f"before: {args.before}; after: the working tree; median wall time, largest peak RSS; "
           f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")
     print("| command | runs | before s | after s | ratio | before MB | after MB | ratio |")
