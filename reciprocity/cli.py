@@ -142,7 +142,8 @@ def cmd_scenarios(args) -> int:
     print(f"{'name':<{wn}} {'world':<9} {'platform':<8}  description")
     for name in names:
         sc = load_scenario(name)
-        print(f"{name:<{wn}} {sc.world:<9} {sc.platform:<8}  {scenario_description(name)}")
+        # a scenario file's description came with it: read each file once
+        print(f"{name:<{wn}} {sc.world:<9} {sc.platform:<8}  {sc.description or scenario_description(name)}")
     return 0
 
 
