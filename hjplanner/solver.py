@@ -266,10 +266,9 @@ def solve(domain, target, rho: float, h: float, ntheta: int, *, clearance: float
     the states whose optimal path is shorter than ``r0 ≈ 2 sqrt(ρ h)``
     (stored as ``meta["local_radius"]``).  Walls of a rectangle domain are
     impassable like arena walls.  The error cannot drop below about
-    ``ρ Δθ``: refine ``h`` and ``Δθ`` together.  Measured on the reference
-    setup ([-1, 1]², ρ = 0.3, target at the origin, poses with exact
-    distance < 0.95): mean |error| 0.0085 on 101 x 101 x 64 in 0.13 s,
-    0.0060 on 201 x 201 x 72 in 0.59 s (one thread, 2-core machine shared with other jobs).
+    ``ρ Δθ``: refine ``h`` and ``Δθ`` together.  Its measured error and time
+    on the reference set-up are in ``benchmarks/LIMITS.md``
+    (``benchmarks/bench_hjplanner.py``).
 
     Examples
     --------

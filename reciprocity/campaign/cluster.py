@@ -164,11 +164,10 @@ def check_cluster(workers: int | None = None, scheduler: str | None = None,
 #: Dask settings of the local cluster's workers (a remote cluster keeps its own). Dask's
 #: nanny starts workers with ``MALLOC_TRIM_THRESHOLD_=65536``, which also freezes glibc's
 #: mmap threshold at 128 KB: every array of more than 16k floats is then mapped and unmapped
-#: anew, and an episode runs 1.5x slower (point episodes on `paper`: 214 against 139 ms).
-#: Thresholds of 64 and 32 MiB keep such arrays on the heap (135 ms). The statistical
-#: profiler samples every task's stack every 10 ms; nobody reads it here. Measured in
-#: benchmarks/LIMITS.md ("campaign, 2 workers against 1"). Variables already set in the
-#: environment win over these.
+#: anew, and episodes run markedly slower than in a plain process. Thresholds of 64 and
+#: 32 MiB keep such arrays on the heap. The statistical profiler samples every task's stack
+#: every 10 ms; nobody reads it here. Measured in benchmarks/LIMITS.md ("Campaigns").
+#: Variables already set in the environment win over these.
 LOCAL_WORKER_CONFIG = {
     "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": 64 * 2**20,
     "distributed.nanny.pre-spawn-environ.MALLOC_MMAP_THRESHOLD_": 32 * 2**20,

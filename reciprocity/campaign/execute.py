@@ -24,8 +24,8 @@ from .worker import _one_line, cache_stats, failure_row, run_tasks
 
 __all__ = ["CampaignResult", "run_campaign", "MAX_CHUNK", "chunk_size"]
 
-#: Most episodes in one Dask task. A task costs the driver about 10 ms of CPU on the cores
-#: the workers share; point episodes take 0.1-0.2 s (benchmarks/LIMITS.md, "campaign").
+#: Most episodes in one Dask task: every task costs the driver CPU on the cores the
+#: workers share, which short episodes feel (benchmarks/LIMITS.md, "Campaigns").
 MAX_CHUNK = 8
 
 

@@ -232,9 +232,9 @@ class FreeEnergyInfotaxis(PlumeSearch):
         Beyond the paper: the temperature's factor grows with the search area,
         ``alpha · (L / 100)^area_exponent`` with ``L`` the square root of the area (the
         task's bounds, length unit). 0 (default): the paper's one ``alpha`` at every size.
-        The printed ``alpha`` leaves the temperature deciding under 1 % of the moves at
-        every size; why, and how the ``alpha`` that decides about half of them grows with
-        the area, is in the doc of :mod:`reciprocity.campaign.tables.song2019`.
+        How much the printed ``alpha`` lets the temperature decide, and how the ``alpha``
+        that balances the two terms grows with the area, is in the doc of
+        :mod:`reciprocity.campaign.tables.song2019`.
 
     Attributes
     ----------
