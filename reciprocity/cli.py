@@ -163,7 +163,8 @@ def cmd_strategies(args) -> int:
 
 
 def _world_overrides(args) -> dict:
-    """The --source/--strength/--start/--noise/--mismatch flags as world overrides."""
+    """The --source/--strength/--start/--noise/--mismatch/--unknown-map/--lidar flags as world
+    overrides."""
     world = {}
     if args.source is not None:
         world["source"] = _floats(args.source, "--source", (2,))
@@ -178,6 +179,10 @@ def _world_overrides(args) -> dict:
         world["noise"] = args.noise
     if args.mismatch:
         world["mismatch"] = _params(args.mismatch, "--mismatch", "strength_factor=1.2")
+    if getattr(args, "unknown_map", False):
+        world["map"] = "unknown"
+    if getattr(args, "lidar", None):
+        world["lidar"] = _params(args.lidar, "--lidar", "beams=64,range=40")
     return world
 
 
@@ -384,6 +389,12 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--json", help="write the episode summary (JSON) to this file")
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                      help="strategy parameter, e.g. --set eps=0.1 (repeatable)")
+    run.add_argument("--unknown-map", action="store_true",
+                     help="poisson worlds: tell the strategy the outer boundary only (map: unknown); "
+                          "the observer maps the obstacles with its range sensor")
+    run.add_argument("--lidar", action="append", default=[], metavar="KEY=VALUE",
+                     help="the observer's range sensor, e.g. --lidar beams=64,range=40,noise=0.5 "
+                          "(cm; default with --unknown-map: 64 beams, 40 cm, 0.5 cm)")
     _common(run)
     run.set_defaults(func=cmd_run)
     demo = sub.add_parser("demo", help="both strategies on the paper arena (or another), with figures")

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import SearchError
-from .observations import MessageLog, Observation
+from .observations import MessageLog, Observation, readings_of, scans_of
 
 __all__ = ["Episode", "StepRecord", "SUMMARY_KEYS"]
 
@@ -63,21 +63,26 @@ class StepRecord:
 
     @property
     def points(self) -> np.ndarray:
-        return np.array([o.position for o in self.observations]).reshape(-1, 2)
+        """Where the source was read (scans left out), shape (n, 2)."""
+        return np.array([o.position for o in readings_of(self.observations)]).reshape(-1, 2)
 
     @property
     def readings(self) -> np.ndarray:
-        return np.array([o.value for o in self.observations], dtype=float)
+        """The source readings (scans left out), shape (n,)."""
+        return np.array([o.value for o in readings_of(self.observations)], dtype=float)
 
     def as_dict(self) -> dict:
         out = dict(step=self.step, agent=self.agent, intent=self.intent, kind=self.kind,
                    targets=np.atleast_2d(self.targets), points=self.points, readings=self.readings,
-                   saturated=[bool(o.saturated) for o in self.observations],
-                   observed_at=[float(o.time) for o in self.observations],
+                   saturated=[bool(o.saturated) for o in readings_of(self.observations)],
+                   observed_at=[float(o.time) for o in readings_of(self.observations)],
                    pose=self.pose, route=self.route, path_length=self.path_length, time=self.time,
                    estimate=self.estimate, region_area=self.region_area)
         if self.message is not None:
             out["message"] = self.message
+        scans = scans_of(self.observations)
+        if scans:
+            out["scans"] = [dict(o.data, position=o.position.tolist()) for o in scans]
         for source, extra in (("strategy", self.belief), ("platform", self.platform)):
             clash = set(extra) & set(out)
             if clash:

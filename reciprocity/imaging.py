@@ -238,6 +238,17 @@ class ImagingMap(Belief):
         if self.strength is None:   # the fitted strength moves every column
             self._clear()
 
+    def on(self, solver: GreenSolver, *, model_error: float | None = None) -> "ImagingMap":
+        """The same readings and parameters imaged on another `solver` (a re-meshed
+        domain: the walls a strategy believes changed), each adjoint solved anew; with
+        another relative `model_error` when given."""
+        other = ImagingMap(solver, self.sigma, strength=self.strength, combine=self.combine,
+                           strength_range=self.strength_range, offset_sd=self.offset_sd,
+                           model_error=self.model_error if model_error is None else model_error)
+        for z, reading, sat in zip(self.points, self.readings, self.saturated):
+            other.add(z, float(reading), saturated=bool(sat))
+        return other
+
     def first(self, k: int) -> "ImagingMap":
         """A map holding only the first `k` measurements (for step-by-step figures)."""
         if not 1 <= k <= self.n:

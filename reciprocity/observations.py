@@ -11,11 +11,26 @@ from typing import Any, Mapping
 
 import numpy as np
 
-__all__ = ["Observation", "Message", "MessageLog", "KINDS"]
+__all__ = ["Observation", "Message", "MessageLog", "KINDS", "SENSING_KINDS", "readings_of", "scans_of"]
 
 #: Kinds of reading: a signal value, a gradient sample (an extra reading around a point),
-#: a number of particle hits, a detection (0/1), a detection of links around a node.
-KINDS = ("signal", "gradient", "hits", "detection", "links")
+#: a number of particle hits, a detection (0/1), a detection of links around a node, a
+#: range scan of the walls around the observer (``data``: ``angles`` rad, ``ranges`` cm,
+#: ``hit``, ``max_range`` cm; ``value``: the nearest range, cm).
+KINDS = ("signal", "gradient", "hits", "detection", "links", "scan")
+#: Kinds that sense the surroundings, not the source: a platform puts them after the
+#: source readings of the same intent, and strategies that do not map skip them.
+SENSING_KINDS = ("scan",)
+
+
+def readings_of(observations) -> list:
+    """The observations that read the source (every kind but :data:`SENSING_KINDS`), in order."""
+    return [o for o in observations if o.kind not in SENSING_KINDS]
+
+
+def scans_of(observations) -> list:
+    """The range scans among `observations`, in order."""
+    return [o for o in observations if o.kind == "scan"]
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ import gymnasium
 from ..env import Rollout, SearchEnv
 from ..errors import SearchError
 from ..intents import Intent
-from ..observations import MessageLog
+from ..observations import MessageLog, readings_of
 from ..outcome import Stop, StopReason
 from ..scenarios import load_scenario
 from ..strategies.base import Status
@@ -68,7 +68,7 @@ class DeclaringAgent:
 
     def observe(self, percept, intent) -> None:
         if percept.unreachable is None and percept.observations:
-            self.n_readings += len(percept.observations)
+            self.n_readings += len(readings_of(percept.observations))
             self.position = np.asarray(percept.observations[-1].position, dtype=float)
 
     def status(self) -> Status:

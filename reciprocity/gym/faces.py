@@ -13,6 +13,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ..intents import Intent, Measure, Move, Stay
+from ..observations import readings_of
 from ..spaces.lattice import CONTROLS
 from ..spaces.walker import all_moves, n_moves, turn_inward
 
@@ -75,8 +76,8 @@ class Face:
 
     def observe(self, percept, intent: Intent) -> dict:
         """Take in one percept of this observer (after `intent`); the next observation."""
-        if percept.unreachable is None and percept.observations:
-            last = percept.observations[-1]
+        if percept.unreachable is None and readings_of(percept.observations):
+            last = readings_of(percept.observations)[-1]
             self.position = np.asarray(last.position, dtype=float).copy()
             self.reading = float(last.value)
             self.time = float(last.time + last.dwell)

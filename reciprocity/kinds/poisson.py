@@ -11,11 +11,12 @@ from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import number, point
 from ..worlds.poisson import Mismatch, PoissonWorld, TRUTH_H, shifted_walls
+from .sensing import believed_arena, check_lidar, check_map
 
 __all__ = ["POISSON", "POISSON_KEYS"]
 
 #: Parameters of a ``poisson`` scenario.
-POISSON_KEYS = ("arena", "source", "strength", "noise", "truth_h", "mismatch")
+POISSON_KEYS = ("arena", "source", "strength", "noise", "truth_h", "mismatch", "map", "lidar")
 #: Largest sensor noise (standard deviation, signal units).
 MAX_NOISE = 1e6
 #: Most triangles of the truth's mesh (its quadratic elements then have about 2e6 unknowns,
@@ -64,6 +65,9 @@ def _check(params: dict) -> dict:
     # the true walls must make a valid arena too (overlapping grown obstacles, a source
     # swallowed by one): refused here, before any episode, not in every episode
     shifted_walls(arena, out["mismatch"].wall_shift)
+    out["map"] = check_map(params.get("map"))
+    out["lidar"] = check_lidar(params.get("lidar"), out["map"])
+    believed_arena(arena, out["map"])   # a partial map that does not fit is refused here
     return out
 
 
@@ -78,7 +82,9 @@ def _check_start(params: dict, starts: np.ndarray) -> None:
 
 def _build(params: dict, rng: np.random.Generator) -> PoissonWorld:
     return PoissonWorld(params["arena"], noise=params["noise"], h=params["truth_h"],
-                        mismatch=params["mismatch"])
+                        mismatch=params["mismatch"],
+                        believed=believed_arena(params["arena"], params.get("map", "known")),
+                        lidar=params.get("lidar"))
 
 
 def _default_start(world: PoissonWorld, rng: np.random.Generator) -> np.ndarray:
@@ -89,6 +95,7 @@ def _default_start(world: PoissonWorld, rng: np.random.Generator) -> np.ndarray:
 
 
 def _point(world: PoissonWorld, scenario, options: dict):
+    from ..platforms.lidar import Lidar
     from ..platforms.point import PointPlatform
     from ..spaces import mesh_space
     unknown = set(options) - {"dwell", "route_h"}
@@ -96,7 +103,8 @@ def _point(world: PoissonWorld, scenario, options: dict):
         raise SearchError(f"unknown point-observer option(s) {', '.join(sorted(unknown))}; "
                           "choose from dwell, route_h")
     space = mesh_space(world.true_arena.without_scenario(), float(options.get("route_h", world.h)))
-    return PointPlatform(space, dwell=float(options.get("dwell", 1.0)))
+    lidar = Lidar.from_dict(world.lidar) if world.lidar is not None else None
+    return PointPlatform(space, dwell=float(options.get("dwell", 1.0)), lidar=lidar)
 
 
 def _car(world: PoissonWorld, scenario, options: dict):

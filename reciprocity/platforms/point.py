@@ -14,6 +14,7 @@ from ..intents import Intent, Measure, Move, SampleGradient, Stay, StepToward
 from ..observations import Observation
 from ..worlds.base import World
 from .base import Platform
+from .lidar import Lidar
 
 __all__ = ["PointPlatform", "gradient_sample_points"]
 
@@ -43,6 +44,11 @@ class PointPlatform(Platform):
         A mesh of the *true* free region, for routes (its edges carry the shortest paths).
     dwell : float
         Duration of one reading, s (the clock advances by it per reading).
+    lidar : Lidar, optional
+        A range sensor read at every stop on the world's true walls: each intent's
+        observations then end with one ``"scan"`` observation per stop, after the signal
+        readings (instantaneous: the clock does not advance). None: no scans, nothing
+        else changes.
 
     Notes
     -----
@@ -54,8 +60,9 @@ class PointPlatform(Platform):
     name = "point"
     intents = (Measure, SampleGradient, StepToward, Move, Stay)
 
-    def __init__(self, space, dwell: float = 1.0):
+    def __init__(self, space, dwell: float = 1.0, lidar: Lidar | None = None):
         super().__init__()
+        self.lidar = lidar
         if not np.isfinite(dwell) or dwell < 0:
             raise SearchError(f"dwell must be a non-negative number of seconds; got {dwell!r}")
         self.space, self.dwell = space, float(dwell)
@@ -108,16 +115,24 @@ class PointPlatform(Platform):
         self.time += self.dwell
         return obs
 
+    def _scan(self) -> Observation:
+        """A range scan of the true walls from the true pose (kind ``"scan"``)."""
+        scan = self.lidar.scan(self.world.true_arena, self.pose, self.rng)
+        return Observation(self.pose[:2].copy(), float(scan.ranges.min()), self.time, 0.0, "scan",
+                           agent=self.agent, data=scan.as_data())
+
     def _execute(self, intent: Intent) -> list[Observation]:
         self.last_route = [self.pose[:2].copy()]
+        out, scans = [], []
         if isinstance(intent, SampleGradient):
             here = self.pose.copy()
             pts = gradient_sample_points(here[:2], here[2], intent.offset, self.world.contains)
-            out = []
             for p in pts:
                 self._go(p)
                 out.append(self._read("gradient"))
-            return out
+                scans += [self._scan()] if self.lidar is not None else []
+            return out + scans
         if not isinstance(intent, Stay):
             self._go(intent.point)
-        return [self._read("signal")]
+        out.append(self._read("signal"))
+        return out + ([self._scan()] if self.lidar is not None else [])

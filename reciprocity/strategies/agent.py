@@ -7,7 +7,7 @@ import inspect
 import numpy as np
 
 from ..errors import SearchError
-from ..observations import MessageLog
+from ..observations import SENSING_KINDS, MessageLog
 from ..outcome import Stop, StopReason
 from ..task import Percept, Report, Task
 from .base import SearchContext, Status, Strategy
@@ -74,7 +74,8 @@ class StrategyAgent:
             point, reason = percept.unreachable
             self.strategy.reject(intent, point, reason, percept.agent)
         else:
-            self.strategy.observe(percept.observations, intent, percept.agent)
+            obs = [o for o in percept.observations if o.kind not in SENSING_KINDS or o.kind in self.strategy.senses]
+            self.strategy.observe(obs, intent, percept.agent)
 
     def status(self) -> Status:
         return self.strategy.status

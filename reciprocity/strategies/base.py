@@ -84,11 +84,16 @@ class Strategy(ABC):
         World kinds the strategy applies to.
     agents : int or None
         Number of observers it directs (None: any number).
+    senses : tuple of str
+        Kinds of :data:`~reciprocity.observations.SENSING_KINDS` (e.g. ``"scan"``) it
+        reads; the others are taken out of its observations before :meth:`observe`, so a
+        strategy that does not map never sees a scan.
     """
 
     name: str = "strategy"
     worlds: tuple = ("poisson",)
     agents: int | None = 1
+    senses: tuple = ()
 
     def __init__(self) -> None:
         self._reset_state()

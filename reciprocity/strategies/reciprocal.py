@@ -13,6 +13,7 @@ from ..spaces import MeshSpace, mesh_space
 from ..models.green import cached_solver
 from .base import SearchContext, Status, Strategy
 from .information import expected_entropy, lattice_greens, systematic_support
+from .mapping import MapKeeper
 
 # scipy's image filters, graph routines and k-d tree are imported where they are used:
 # listing the strategies imports this module for its name and doc alone (issue 24).
@@ -244,6 +245,7 @@ class ReciprocityStrategy(Strategy):
     """
 
     name = "reciprocity"
+    senses = ("scan",)
 
     def __init__(self, *, preset: str | None = None, rule: str | None = None,
                  combine: str | None = None, sigma=None, eps: float | None = None,
@@ -334,7 +336,8 @@ class ReciprocityStrategy(Strategy):
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
         arena, pose = ctx.arena, ctx.start
-        geometry = arena.without_scenario()
+        self.mapping = MapKeeper.from_nominal(ctx.nominal)            # map: unknown (issue 23)
+        geometry = arena.without_scenario() if self.mapping is None else self.mapping.arena
         if self.solver is None or self.solver.arena.without_scenario() is not geometry:
             self.solver = cached_solver(geometry, self.h)
         c = ctx.nominal.get("strength", arena.strength) if self.strength == "arena" else self.strength
@@ -344,6 +347,9 @@ class ReciprocityStrategy(Strategy):
         offset = self.reading_bias(ctx.nominal) if product else 0.0
         calibrated = self.sigma == "calibrated" and "reading_noise" in ctx.nominal
         model_error = CALIBRATED_MODEL_ERROR if product and calibrated else 0.0
+        self._model_error = model_error
+        if self.mapping is not None and product:
+            model_error = self.mapping.model_error(model_error)
         self.imaging = ImagingMap(self.solver, self.sigma_used, strength=c, combine=self.combine,
                                   strength_range=prior, offset_sd=offset, model_error=model_error)
         self.space = self._space(geometry)
@@ -380,6 +386,24 @@ class ReciprocityStrategy(Strategy):
             raise SearchError("the reciprocity strategy needs a P1 solver (order=1) on the arena's mesh")
         return space
 
+    def _remesh(self, position) -> None:
+        """The believed walls changed (``map: unknown``): the solver on the new believed
+        arena (cached: a map seen before is not factorized again), the same readings
+        imaged on it with the model error of the map now, and the space and reachable set
+        on its mesh. Rejected targets are forgotten (the point observer, moving in
+        seen-free space, has none)."""
+        geometry = self.mapping.arena
+        self.solver = cached_solver(geometry, self.h)
+        error = self.mapping.model_error(self._model_error) if self.imaging.combine == "product" \
+            and self.imaging.strength_range is None else self.imaging.model_error
+        self.imaging = self.imaging.on(self.solver, model_error=error)
+        self.space = self._space(geometry)
+        self._node_area = self.space.cell_areas
+        self._reachable = self.space.reachable_from(position, self.clearance)
+        self._far, self._far_count, self._near_key = np.ones(len(self.space.points), dtype=bool), 0, None
+        self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
+            if self.rule == "info" else None
+
     def propose(self) -> Measure | None:
         if self.done:
             return None
@@ -387,6 +411,8 @@ class ReciprocityStrategy(Strategy):
 
     def observe(self, observations, intent, agent: int = 0) -> None:
         obs = observations[0]
+        if self.mapping is not None and self.mapping.update(observations):
+            self._remesh(obs.position)
         self.n_measurements += 1
         self.n_samples += 1
         self.imaging.update(obs)                                       # steps 9-11
@@ -516,6 +542,13 @@ class ReciprocityStrategy(Strategy):
         """Step 13: the next observation point (cm), or None if none is admissible."""
         im, cand = self.imaging, self.space
         allowed = self._reachable & self._separated()
+        if self.mapping is not None:
+            allowed = allowed & self.mapping.admissible(cand.points)
+            nxt = self.mapping.frontier_point(cand, self.imaging.weights(), allowed, im.points[-1],
+                                              lambda y: mass_within_reach(y, cand.points, self.imaging.weights(),
+                                                                          self.reach))
+            if nxt is not None:
+                return nxt
         if self.rule == "info":
             nxt, gain = self._info_point(allowed)
             if nxt is not None and gain < INFO_GAIN_MIN:

@@ -137,12 +137,19 @@ class PoissonWorld(World):
         How the truth departs from what the strategy is told.
     success_radius : float
         A converged estimate within this distance (cm) succeeds.
+    believed : Arena, optional
+        The walls the strategy is told instead of the true ones (``map: unknown``: the
+        boundary alone; ``map: {known: FILE}``: a partial map); None tells the true walls.
+    lidar : dict, optional
+        The platform's range sensor ``{beams, range, noise}`` (cm), told to the strategy
+        as it is (the platforms read it on :attr:`true_arena`).
     """
 
     kind = "poisson"
 
     def __init__(self, arena: Arena, *, noise: float = 12.0, h: float = TRUTH_H,
-                 mismatch: Mismatch | None = None, success_radius: float = 5.0):
+                 mismatch: Mismatch | None = None, success_radius: float = 5.0,
+                 believed: Arena | None = None, lidar: dict | None = None):
         if arena.source is None:
             raise SearchError(f"arena {arena.name!r} has no true source: give source: [x, y]")
         if not np.isfinite(noise) or noise < 0:
@@ -159,6 +166,8 @@ class PoissonWorld(World):
         self.h = float(h)
         self.success_radius = float(success_radius)
         self._field: Field | None = None
+        self.believed = believed
+        self.lidar = None if lidar is None else dict(lidar)
 
     @property
     def field(self) -> Field:
@@ -188,7 +197,17 @@ class PoissonWorld(World):
                       self.h, float(px_per_mm), self.mismatch.paint_gamma)
 
     def nominal(self) -> dict:
-        return dict(arena=replace(self.arena, source=None), strength=float(self.arena.strength), noise=self.noise)
+        out = dict(arena=replace(self.arena, source=None), strength=float(self.arena.strength), noise=self.noise)
+        if self.believed is not None:   # the walls are not all known: only what the map tells
+            out.update(arena=self.believed, map="unknown")
+        if self.lidar is not None:
+            out["lidar"] = dict(self.lidar)
+        return out
 
     def describe(self) -> dict:
-        return dict(noise=self.noise, truth_h=self.h, mismatch=asdict(self.mismatch))
+        out = dict(noise=self.noise, truth_h=self.h, mismatch=asdict(self.mismatch))
+        if self.believed is not None:
+            out["map"] = "unknown" if not self.believed.obstacles else "partial"
+        if self.lidar is not None:
+            out["lidar"] = dict(self.lidar)
+        return out

@@ -1,0 +1,163 @@
+"""What a strategy does with a map it has to discover: the component it owns for
+``map: unknown``.
+
+:class:`MapKeeper` holds the occupancy grid (:class:`~reciprocity.beliefs.occupancy.OccupancyGrid`)
+built from the platform's range scans and answers the strategy's three questions:
+
+- *on which domain is the field computed?* :attr:`MapKeeper.arena`, the outer boundary
+  with the believed obstacles, unknown space free (optimistic). It is the same object
+  until the believed obstacles change, so the solver cached on it
+  (:func:`~reciprocity.models.green.cached_solver`) and its factorization are reused
+  while the map stays the same, and rebuilt only when it changes;
+- *how far is the model from the truth?* :meth:`MapKeeper.model_error`: the relative
+  error of a predicted reading grows with the share of the arena not yet seen (walls
+  there are missing from the model), so that readings do not rule out sources the
+  unseen walls would explain;
+- *where may the observer go, and when should it explore?* Observation points only in
+  seen-free space (:meth:`MapKeeper.admissible`); when most of the belief lies in unseen
+  space, the frontier point (a seen-free point next to unseen space) with the most
+  belief mass within reach, discounted by the path to it (:meth:`MapKeeper.frontier_point`):
+  a reading there tells about the source, and the scan there about the map.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from arenas import Arena
+
+from ..beliefs.occupancy import OccupancyGrid
+from ..errors import SearchError
+from ..observations import Observation, scans_of
+
+__all__ = ["MapKeeper", "UNSEEN_MODEL_ERROR", "MAPPED_MODEL_ERROR", "FRONTIER_SHARE", "FRONTIER_DISCOUNT"]
+
+#: Relative model error added per unit share of the arena not yet seen (the whole arena
+#: unseen: 0.3, a reading may be 30 % off the model's prediction).
+UNSEEN_MODEL_ERROR = 0.3
+#: Relative model error of a map seen everywhere: believed walls sit up to about a cell
+#: (1 cm) off the true ones, and their far sides are unseen.
+MAPPED_MODEL_ERROR = 0.05
+#: Explore (go to the frontier) when at least this share of the belief lies in unseen space.
+FRONTIER_SHARE = 0.5
+#: Path length (cm) over which a frontier point's score falls by a factor e.
+FRONTIER_DISCOUNT = 100.0
+
+
+class MapKeeper:
+    """The believed map of a strategy told only part of the walls.
+
+    Parameters
+    ----------
+    arena : Arena
+        What the strategy is told: the outer boundary and any known obstacles, cm.
+    lidar : dict
+        The range sensor's nominal parameters ``{beams, range, noise}`` (cm).
+    cell : float
+        Occupancy cell side, cm.
+
+    Attributes
+    ----------
+    grid : OccupancyGrid
+        The occupancy grid.
+    arena : Arena
+        The believed arena (geometry only), the same object while the map is unchanged.
+    """
+
+    def __init__(self, arena: Arena, lidar: dict, cell: float = 1.0):
+        if not lidar or "range" not in lidar:
+            raise SearchError("an unknown map needs a range sensor: give lidar: {beams, range, noise}")
+        self.grid = OccupancyGrid(arena, cell)
+        self.lidar = dict(lidar)
+        self.arena = self.grid.believed_arena()
+
+    @classmethod
+    def from_nominal(cls, nominal) -> "MapKeeper | None":
+        """A keeper when the task says the map is unknown (``map: "unknown"``), else None."""
+        if nominal.get("map") != "unknown":
+            return None
+        return cls(nominal["arena"], nominal.get("lidar") or {})
+
+    @property
+    def revision(self) -> int:
+        """How many times the believed obstacles changed."""
+        return self.grid.revision
+
+    def update(self, observations: list[Observation]) -> bool:
+        """Take in the scans among `observations`; True when the believed arena changed
+        (the strategy then re-meshes)."""
+        for o in scans_of(observations):
+            d = o.data
+            self.grid.update(o.position, np.asarray(d["angles"]), np.asarray(d["ranges"]),
+                             np.asarray(d["hit"], dtype=bool), float(d["max_range"]))
+        new = self.grid.believed_arena()
+        changed = new is not self.arena
+        self.arena = new
+        return changed
+
+    def model_error(self, base: float = 0.0) -> float:
+        """Relative error of the model's predicted readings on the believed map: at least
+        `base` (the platform's own) and ``MAPPED_MODEL_ERROR + UNSEEN_MODEL_ERROR x
+        unseen share``."""
+        unseen = 1.0 - self.grid.seen_fraction
+        return float(max(base, MAPPED_MODEL_ERROR + UNSEEN_MODEL_ERROR * unseen))
+
+    def admissible(self, points: np.ndarray) -> np.ndarray:
+        """Mask of `points` (n, 2) in seen-free space (where the observer may measure)."""
+        return self.grid.free_at(points)
+
+    def unseen_share(self, points: np.ndarray, weights: np.ndarray) -> float:
+        """Share of the belief (`weights` at `points`) that lies in unseen space."""
+        w = np.asarray(weights, dtype=float)
+        total = w.sum()
+        return 0.0 if total <= 0 else float(w[~self.grid.seen_at(points)].sum() / total)
+
+    def frontier_point(self, space, weights: np.ndarray, allowed: np.ndarray, here,
+                       mass_near: Callable[[np.ndarray], np.ndarray]) -> np.ndarray | None:
+        """The frontier point to explore, or None when the belief lies mostly in seen
+        space (less than FRONTIER_SHARE unseen) or no frontier point is allowed.
+
+        Parameters
+        ----------
+        space : reciprocity.spaces.MeshSpace
+            The believed mesh (its nodes are the candidates).
+        weights : ndarray, shape (n,)
+            Belief mass at the nodes.
+        allowed : ndarray of bool, shape (n,)
+            Nodes the strategy may measure at.
+        here : array_like, shape (2,)
+            The observer's position, cm.
+        mass_near : callable
+            ``mass_near(points (m, 2)) -> (m,)``: the belief mass within sensing reach of
+            each point.
+
+        Returns
+        -------
+        ndarray, shape (2,) or None
+            The node maximising ``mass_near(y) exp(-path(y) / FRONTIER_DISCOUNT)`` among
+            allowed nodes within a cell of the frontier, ``path`` along the believed mesh.
+        """
+        pts = space.points
+        if self.unseen_share(pts, weights) < FRONTIER_SHARE:
+            return None
+        from scipy import ndimage
+        near = ndimage.binary_dilation(self.grid.frontier(), np.ones((3, 3), dtype=bool))
+        r, c, ok = self.grid.index(pts)
+        cand = np.flatnonzero(allowed & ok & near[r, c])
+        if cand.size == 0:
+            return None
+        path = _path_lengths(space, here)[cand]
+        score = mass_near(pts[cand]) * np.exp(-path / FRONTIER_DISCOUNT)
+        return pts[cand[int(np.argmax(score))]].copy()
+
+
+def _path_lengths(space, here) -> np.ndarray:
+    """Path length (cm) from the node nearest `here` to every node along the mesh's edges."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+    i, j = space.edges
+    n = len(space.points)
+    graph = coo_matrix((np.hypot(*(space.points[i] - space.points[j]).T), (i, j)), shape=(n, n)).tocsr()
+    return dijkstra(graph, directed=False, indices=space.nearest(here))

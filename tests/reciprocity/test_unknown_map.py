@@ -1,0 +1,167 @@
+"""Unknown obstacles (issue 23, part 1): the range sensor, the scenario keys, the occupancy
+grid, and the reciprocity search on a believed map that never holds the true walls."""
+
+import numpy as np
+import pytest
+from shapely.geometry import Polygon
+from shapely.ops import unary_union
+
+import arenas
+from reciprocity.beliefs.occupancy import OccupancyGrid
+from reciprocity.cli import main
+from reciprocity.env import SearchEnv, rollout
+from reciprocity.errors import SearchError
+from reciprocity.intents import Measure
+from reciprocity.observations import readings_of
+from reciprocity.platforms.lidar import LIDAR_DEFAULTS, Lidar, ray_ranges, wall_segments
+from reciprocity.strategies import STRATEGIES
+from reciprocity.strategies.agent import StrategyAgent
+from reciprocity.strategies.mapping import MapKeeper
+
+SQUARE = [[0, 0], [100, 0], [100, 100], [0, 100]]
+
+
+# -- the sensor (truth) -------------------------------------------------------------------
+def test_ray_ranges_are_exact_against_a_square_and_a_wall():
+    arena = arenas.Arena.from_polygons(SQUARE, [[[60, 40], [70, 40], [70, 60], [60, 60]]])
+    a, b = wall_segments(arena)
+    angles = np.array([0.0, np.pi / 2, np.pi, 3 * np.pi / 2, np.pi / 4])
+    r, hit = ray_ranges((20.0, 50.0), angles, a, b, 200.0)
+    np.testing.assert_allclose(r[:4], [40.0, 50.0, 20.0, 50.0])
+    assert hit.all()
+    r, hit = ray_ranges((20.0, 50.0), angles, a, b, 30.0)          # capped: the range, flagged
+    np.testing.assert_allclose(r, [30.0, 30.0, 20.0, 30.0, 30.0])
+    assert hit.tolist() == [False, False, True, False, False]
+
+
+def test_lidar_noise_comes_from_the_given_generator_and_spares_missed_beams():
+    arena = arenas.load("empty")
+    lidar = Lidar(beams=16, range=50.0, noise=0.5)
+    s1 = lidar.scan(arena, (20.0, 70.0, 0.0), np.random.default_rng(3))
+    s2 = lidar.scan(arena, (20.0, 70.0, 0.0), np.random.default_rng(3))
+    np.testing.assert_array_equal(s1.ranges, s2.ranges)
+    assert np.all(s1.ranges[~s1.hit] == 50.0) and s1.hit.any() and (~s1.hit).any()
+    exact = lidar.scan(arena, (20.0, 70.0, 0.0), np.random.default_rng(3)).ranges
+    assert np.all(np.abs(s1.ranges - exact) < 3.0)
+
+
+# -- the scenario keys and the command line -----------------------------------------------
+def test_unknown_map_tells_the_boundary_and_the_default_lidar():
+    env = SearchEnv("deep_u", world={"map": "unknown"})
+    _, info = env.reset(seed=0)
+    nominal = info["task"].world_nominal
+    assert nominal["map"] == "unknown" and nominal["arena"].obstacles == []
+    assert nominal["lidar"] == LIDAR_DEFAULTS
+    assert len(env.world.true_arena.obstacles) == 1
+    known = SearchEnv("deep_u").reset(seed=0)[1]["task"].world_nominal
+    assert "map" not in known and "lidar" not in known and len(known["arena"].obstacles) == 1
+
+
+def test_a_partial_map_file_is_told(tmp_path):
+    part = tmp_path / "part.yaml"
+    part.write_text("boundary: [[0, 0], [140, 0], [140, 140], [0, 140]]\n"
+                    "obstacles:\n  - [[0, 32], [108, 32], [108, 38], [0, 38]]\n")
+    env = SearchEnv("maze", world={"map": {"known": str(part)}, "lidar": {"beams": 32}})
+    nominal = env.reset(seed=0)[1]["task"].world_nominal
+    assert nominal["map"] == "unknown" and len(nominal["arena"].obstacles) == 1
+    assert nominal["lidar"] == {"beams": 32, "range": 40.0, "noise": 0.5}
+
+
+@pytest.mark.parametrize("world, match", [
+    ({"map": "partly"}, "map must be one of known, unknown"),
+    ({"map": {"known": 3}}, "map: known must name an arena file"),
+    ({"lidar": {"beams": 3}}, "lidar beams must be a whole number from 4"),
+    ({"lidar": {"range": 0}}, "lidar range must be a number in (0, 1000] cm; got 0"),
+    ({"lidar": {"noise": -1}}, "lidar noise must be a number in [0, 100] cm"),
+    ({"lidar": {"colour": 1}}, "unknown lidar key(s) colour"),
+    ({"lidar": [64]}, "lidar must be a mapping"),
+])
+def test_bad_map_and_lidar_values_are_refused(world, match):
+    with pytest.raises(SearchError, match=None) as exc:
+        SearchEnv("paper", world=world)
+    assert match in str(exc.value)
+
+
+@pytest.mark.parametrize("flags, match", [
+    (["--lidar", "beams=2"], "lidar beams must be a whole number from 4 to 4096; got 2"),
+    (["--lidar", "beams=64,range=-1"], "lidar range must be"),
+    (["--lidar", "beams"], "--lidar expects KEY=VALUE"),
+])
+def test_cli_lidar_errors_exit_2(flags, match, capsys):
+    argv = ["run", "--arena", "paper", "--strategy", "reciprocity", "--unknown-map", *flags, "--quiet"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and match in err and err.count("\n") == 1
+
+
+# -- the point observer's scans -----------------------------------------------------------
+def test_the_point_observer_scans_after_its_reading_and_only_with_a_lidar():
+    env = SearchEnv("paper", world={"map": "unknown", "lidar": {"beams": 8}})
+    env.reset(seed=0)
+    obs = env.step(Measure(np.array([128.0, 20.0])))[0][0].observations
+    assert [o.kind for o in obs] == ["signal", "scan"]
+    assert len(obs[1].data["ranges"]) == 8 and obs[1].data["max_range"] == 40.0
+    plain = SearchEnv("paper")
+    plain.reset(seed=0)
+    assert [o.kind for o in plain.step(Measure(np.array([128.0, 20.0])))[0][0].observations] == ["signal"]
+
+
+def test_the_signal_readings_do_not_change_when_a_lidar_is_added():
+    """The scan draws its noise after the reading: the first reading is the same."""
+    values = []
+    for world in ({}, {"lidar": {"beams": 8}}):
+        env = SearchEnv("paper", world=world)
+        env.reset(seed=4)
+        values.append(readings_of(env.step(Measure(np.array([128.0, 20.0])))[0][0].observations)[0].value)
+    assert values[0] == values[1]
+
+
+def test_a_strategy_that_does_not_map_never_sees_a_scan():
+    seen = []
+
+    class Spy(STRATEGIES["gradient"]):
+        def observe(self, observations, intent, agent=0):
+            seen.extend(o.kind for o in observations)
+            super().observe(observations, intent, agent)
+
+    ep = rollout(SearchEnv("empty", world={"map": "unknown"}), StrategyAgent(Spy, {"max_steps": 3}), seed=1)
+    assert seen and "scan" not in seen
+    assert ep.summary["map"] == "unknown" and ep.trace[0]["scans"]
+
+
+# -- the occupancy grid (belief) -----------------------------------------------------------
+def test_the_grid_believes_a_wall_where_the_beams_hit_it_and_keeps_its_arena_when_unchanged():
+    true = arenas.Arena.from_polygons(SQUARE, [[[60, 20], [66, 20], [66, 80], [60, 80]]])
+    grid = OccupancyGrid(arenas.Arena.from_polygons(SQUARE))
+    lidar = Lidar(beams=128, range=60.0, noise=0.0)
+    scan = lidar.scan(true, (30.0, 50.0, 0.0), np.random.default_rng(0))
+    grid.update((30.0, 50.0), scan.angles, scan.ranges, scan.hit, scan.max_range)
+    arena = grid.believed_arena()
+    assert grid.revision == 1 and len(arena.obstacles) == 1
+    wall = Polygon(arena.obstacles[0])
+    assert wall.distance(Polygon([[60, 20], [66, 20], [66, 80], [60, 80]])) == 0
+    assert 57.0 < wall.bounds[0] < 60.5 and wall.bounds[2] < 64.0     # the side seen, not the far side
+    assert not grid.seen_at([[80.0, 50.0]])[0] and grid.free_at([[40.0, 50.0]])[0]
+    assert grid.frontier().any()
+    grid.update((30.0, 50.0), scan.angles, scan.ranges, scan.hit, scan.max_range)
+    assert grid.believed_arena() is arena and grid.revision == 1
+
+
+# -- the search: truth never reaches the strategy ------------------------------------------
+def test_reciprocity_on_an_unknown_map_holds_only_walls_the_lidar_saw():
+    """Fails if the true walls leak into the strategy: its solver's walls must all lie
+    where its scans reached, and the task's arena holds none."""
+    env = SearchEnv("deep_u", world={"map": "unknown"})
+    agent = StrategyAgent(STRATEGIES["reciprocity"], {"h": 2.0, "max_steps": 4})
+    ep = rollout(env, agent, seed=0)
+    strat = agent.strategy
+    assert isinstance(strat.mapping, MapKeeper)
+    assert strat.solver.arena is strat.mapping.arena is not env.world.true_arena
+    scanned = unary_union([Polygon(np.asarray(s["position"]) + np.column_stack(
+        [np.cos(s["angles"]), np.sin(s["angles"])]) * np.asarray(s["ranges"])[:, None]).buffer(3.0)
+        for rec in ep.trace for s in rec.get("scans", [])])
+    believed = unary_union([Polygon(o) for o in strat.solver.arena.obstacles])
+    assert believed.area > 0 and believed.difference(scanned).area < 1.0
+    true = Polygon(env.world.true_arena.obstacles[0])
+    assert true.difference(believed).area > 0.3 * true.area       # the unseen part is not there
+    assert ep.summary["n_measurements"] == 4 or ep.summary["converged"]
