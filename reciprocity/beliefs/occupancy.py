@@ -39,6 +39,9 @@ L_THRESHOLD = 0.4
 MIN_CHANGE_CM2 = 4.0
 #: Hits within this many cells of the known outer boundary are the boundary itself.
 BOUNDARY_CELLS = 1.5
+#: Cells within this many cells of a place the observer scanned from are never believed
+#: walls (it stood there): its readings stay inside the believed free region.
+VISITED_CELLS = 2.5
 
 
 class OccupancyGrid:
@@ -87,6 +90,8 @@ class OccupancyGrid:
         self.nx, self.ny = int(np.ceil((x1 - x0) / cell)), int(np.ceil((y1 - y0) / cell))
         self.logodds = np.zeros((self.ny, self.nx))
         self.seen = np.zeros((self.ny, self.nx), dtype=bool)
+        #: cells within VISITED_CELLS of a place a scan was taken from: free for certain
+        self.visited = np.zeros((self.ny, self.nx), dtype=bool)
         centres = self.centres()
         outer = Arena.from_polygons(self.known.boundary)
         self.inside = outer.contains(centres.reshape(-1, 2)).reshape(self.ny, self.nx)
@@ -183,6 +188,8 @@ class OccupancyGrid:
         fx, fy = (ends - self.origin).T / self.cell - 0.5   # fractional cell coordinates
         rr, cc = polygon(fy, fx, shape=self.logodds.shape)
         own_r, own_c, own_ok = self.index(p[None])
+        near = np.sum((self.centres() - p) ** 2, axis=-1) <= (VISITED_CELLS * self.cell) ** 2
+        self.visited |= near & self.inside
         free = np.zeros(self.logodds.shape, dtype=bool)
         free[rr, cc] = True
         if own_ok[0]:
@@ -212,7 +219,7 @@ class OccupancyGrid:
         disk = np.add.outer(np.arange(-2, 3) ** 2, np.arange(-2, 3) ** 2) <= 4
         closed = ndimage.binary_closing(blocked, disk)[3:-3, 3:-3]
         # only gaps next to a believed wall are closed (not the boundary's own corners)
-        blocked = occ | (closed & ndimage.binary_dilation(occ, disk))
+        blocked = (occ | (closed & ndimage.binary_dilation(occ, disk))) & ~self.visited
         free = self.inside & ~blocked
         label, n = ndimage.label(free)
         if n > 1:

@@ -72,6 +72,7 @@ class MapKeeper:
         self.grid = OccupancyGrid(arena, cell)
         self.lidar = dict(lidar)
         self.arena = self.grid.believed_arena()
+        self._visited = np.empty((0, 2))
 
     @classmethod
     def from_nominal(cls, nominal) -> "MapKeeper | None":
@@ -87,12 +88,16 @@ class MapKeeper:
 
     def update(self, observations: list[Observation]) -> bool:
         """Take in the scans among `observations`; True when the believed arena changed
-        (the strategy then re-meshes)."""
+        (the strategy then re-meshes). A new arena that leaves out a place the observer
+        scanned from (so a reading taken there) is not taken: the map keeps the last one."""
         for o in scans_of(observations):
             d = o.data
             self.grid.update(o.position, np.asarray(d["angles"]), np.asarray(d["ranges"]),
                              np.asarray(d["hit"], dtype=bool), float(d["max_range"]))
+            self._visited = np.vstack([self._visited, o.position])
         new = self.grid.believed_arena()
+        if new is not self.arena and len(self._visited) and not new.contains(self._visited).all():
+            new = self.arena
         changed = new is not self.arena
         self.arena = new
         return changed
