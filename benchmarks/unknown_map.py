@@ -7,7 +7,8 @@ Each seed index draws the pair exactly as a campaign with ``random_source: true`
 >= 5 cm, uniform heading, from the campaign seed 2026), so the known and unknown runs of
 an index meet the same world. Episodes run one after the other in this process.
 
-    python benchmarks/unknown_map.py --seeds 20 --out benchmarks/unknown_map/runs.csv
+    python benchmarks/unknown_map.py --seeds 25 --out benchmarks/unknown_map/runs.csv
+    python benchmarks/unknown_map.py --seeds 25 --modes unknown-flat --out benchmarks/unknown_map/runs.csv
     python benchmarks/unknown_map.py --table benchmarks/unknown_map/runs.csv
 
 The point observer moves along free paths of the true walls: it never touches a wall, so
@@ -28,7 +29,9 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ARENAS = ["paper", "maze", "deep_u", str(HERE / "unknown_map" / "pillars.yaml"),
           str(HERE / "unknown_map" / "two_rooms.yaml"), str(HERE / "unknown_map" / "baffles.yaml")]
-MODES = {"known": {}, "unknown": {"map": "unknown"}}
+#: Modes: the world overrides, and whether the likelihood is widened for the unseen map
+#: (``unknown-flat``: the model error of a known map, to measure what widening costs).
+MODES = {"known": ({}, True), "unknown": ({"map": "unknown"}, True), "unknown-flat": ({"map": "unknown"}, False)}
 CAMPAIGN_SEED = 2026
 FIELDS = ["arena", "mode", "index", "seed", "success", "converged", "stop", "n_measurements", "path_length",
           "error", "source_reachable", "wall_time_s", "remeshes"]
@@ -41,6 +44,8 @@ def run(arenas: list[str], modes: list[str], seeds: int, out: Path, params: dict
     from reciprocity.scenarios import load_scenario
     from reciprocity.strategies import STRATEGIES
     from reciprocity.strategies.agent import StrategyAgent
+    from reciprocity.strategies import mapping
+    widen = (mapping.UNSEEN_MODEL_ERROR, mapping.MAPPED_MODEL_ERROR)
     done = set()
     if out.exists():
         with out.open() as f:
@@ -59,7 +64,9 @@ def run(arenas: list[str], modes: list[str], seeds: int, out: Path, params: dict
                     label = Path(name).stem
                     if (label, mode, i) in done:
                         continue
-                    env = SearchEnv(sc, world={**pair, **MODES[mode]})
+                    world, widened = MODES[mode]
+                    mapping.UNSEEN_MODEL_ERROR, mapping.MAPPED_MODEL_ERROR = widen if widened else (0.0, 0.0)
+                    env = SearchEnv(sc, world={**pair, **world})
                     agent = StrategyAgent(STRATEGIES["reciprocity"], dict(params))
                     t0 = time.perf_counter()
                     s = rollout(env, agent, seed).summary
@@ -103,10 +110,10 @@ def table(path: Path) -> str:
         rows = list(csv.DictReader(f))
     arenas = list(dict.fromkeys(r["arena"] for r in rows))
     lines = ["| arena | map | runs | success (95 % CI) | median readings (95 % CI) | median path cm | "
-             "readings ratio unknown/known | contacts |", "|---|---|---|---|---|---|---|---|"]
+             "readings ratio to known | median error cm | contacts |", "|---|---|---|---|---|---|---|---|---|"]
     for group in arenas + ["all"]:
         med = {}
-        for mode in ("known", "unknown"):
+        for mode in MODES:
             rs = [r for r in rows if r["mode"] == mode and (group == "all" or r["arena"] == group)]
             if not rs:
                 continue
@@ -115,9 +122,10 @@ def table(path: Path) -> str:
             m, mlo, mhi = median_ci([int(r["n_measurements"]) for r in rs])
             med[mode] = m
             path = float(np.median([float(r["path_length"]) for r in rs]))
-            ratio = f"{med['unknown'] / med['known']:.2f}" if mode == "unknown" and "known" in med else ""
+            err = float(np.median([float(r["error"]) for r in rs if r["error"] not in ("", "None")]))
+            ratio = f"{m / med['known']:.2f}" if mode != "known" and "known" in med else ""
             lines.append(f"| {group} | {mode} | {len(rs)} | {100 * k / len(rs):.0f} % ({100 * lo:.0f}-{100 * hi:.0f}) | "
-                         f"{m:g} ({mlo:g}-{mhi:g}) | {path:.0f} | {ratio} | 0 |")
+                         f"{m:g} ({mlo:g}-{mhi:g}) | {path:.0f} | {ratio} | {err:.2f} | 0 |")
     return "\n".join(lines)
 
 
@@ -125,7 +133,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seeds", type=int, default=20, help="pairs per arena (default 20)")
     ap.add_argument("--arenas", nargs="*", default=ARENAS)
-    ap.add_argument("--modes", nargs="*", default=list(MODES))
+    ap.add_argument("--modes", nargs="*", default=["known", "unknown"], choices=list(MODES))
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="a strategy parameter (a number), e.g. --set h=2")
     ap.add_argument("--out", type=Path, default=HERE / "unknown_map" / "runs.csv")

@@ -1,0 +1,140 @@
+"""Figures of a search on an unknown map: the true walls against the believed ones, the
+seen region, the frontier and the imaging on the believed mesh, step by step."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+
+from arenas import Arena
+
+from ..episode import Episode
+from ..imaging import ImagingMap
+from ..models.green import cached_solver
+from ..observations import Observation
+from ..strategies.mapping import MapKeeper
+from .figures import draw_arena
+
+__all__ = ["map_replay", "mapping_steps_figure"]
+
+
+def _scans(record: dict) -> list[Observation]:
+    """The scans of one trace record as observations (as the strategy received them)."""
+    return [Observation(s["position"], min(s["ranges"]), kind="scan", data=s) for s in record.get("scans", ())]
+
+
+def map_replay(episode: Episode, strategy, k: int) -> tuple[MapKeeper, ImagingMap]:
+    """The believed map and the imaging map of `strategy` after step `k` of `episode`,
+    rebuilt from the trace's scans and readings as the strategy built them (the same
+    occupancy updates, the same believed arena, the solver on it, the readings imaged
+    with the model error of that map).
+
+    Parameters
+    ----------
+    episode : Episode
+        A run of the reciprocity strategy with ``map: unknown`` (its trace holds the scans).
+    strategy : ReciprocityStrategy
+        The strategy at the end of the run (for its parameters and what it was told).
+    k : int
+        Step, 1-based.
+    """
+    first = strategy.mapping
+    keeper = MapKeeper(first.grid.known, first.lidar, first.grid.cell)
+    for record in episode.trace[:k]:
+        keeper.update(_scans(record))
+    im = strategy.imaging
+    points = np.vstack([np.asarray(r["points"]).reshape(-1, 2) for r in episode.trace[:k]])
+    readings = np.concatenate([np.asarray(r["readings"], dtype=float) for r in episode.trace[:k]])
+    product = im.combine == "product" and im.strength_range is None
+    error = keeper.model_error(getattr(strategy, "_model_error", 0.0)) if product else im.model_error
+    out = ImagingMap(cached_solver(keeper.arena, strategy.h), im.sigma, strength=im.strength, combine=im.combine,
+                     strength_range=im.strength_range, offset_sd=im.offset_sd, model_error=error)
+    for z, r in zip(points, readings):
+        out.add(z, float(r))
+    return keeper, out
+
+
+def mapping_steps_figure(episode: Episode, strategy, true_arena: Arena, *, steps=None,
+                         ncols: int = 4) -> Figure:
+    """One panel per step of a search on an unknown map.
+
+    Background: the imaging function ``P_M`` on the believed mesh after the step; grey
+    fill: the believed obstacles (what the model solves around); red outline: the true
+    obstacles (never shown to the strategy); hatched dark veil: space not yet seen by the
+    lidar (free in the model: optimistic); cyan dots: the frontier (seen-free cells next to
+    unseen ones); red circles: observation points; blue line: the path; black cross: the
+    next point; magenta diamond: the estimate; green star: the true source.
+
+    Parameters
+    ----------
+    episode : Episode
+        The run (``map: unknown``: its trace holds the scans).
+    strategy : ReciprocityStrategy
+        The strategy at the end of the run.
+    true_arena : Arena
+        The true walls (the world's, for the figure only).
+    steps : sequence of int, optional
+        Steps (1-based); default: 1, 2, the middle one, the last.
+    ncols : int
+        Panels per row.
+    """
+    n = len(episode.trace)
+    if steps is None:
+        steps = sorted({1, min(2, n), max(1, (n + 1) // 2), n})
+    steps = [k for k in steps if 1 <= k <= n]
+    rows = int(np.ceil(len(steps) / ncols))
+    cols = min(ncols, len(steps))
+    fig = Figure(figsize=(3.8 * cols, 3.7 * rows + 0.6), layout="constrained")
+    src = np.asarray(episode.summary["source"])
+    veil = ListedColormap([(0, 0, 0, 0), (0.1, 0.1, 0.1, 0.55)])
+    tpc = None
+    for i, k in enumerate(steps):
+        ax = fig.add_subplot(rows, cols, i + 1)
+        keeper, im = map_replay(episode, strategy, k)
+        grid = keeper.grid
+        tpc = ax.tripcolor(im.solver.triangulation, im.values(), shading="gouraud", cmap="jet", vmin=0, vmax=1,
+                           rasterized=True)
+        draw_arena(ax, keeper.arena, obstacle_color="0.55")
+        for o in true_arena.obstacles:
+            c = np.vstack([o, o[:1]])
+            ax.plot(c[:, 0], c[:, 1], "-", color="red", lw=1.0, zorder=4)
+        (x0, x1), (y0, y1) = grid.known.bounds
+        extent = (grid.origin[0], grid.origin[0] + grid.nx * grid.cell,
+                  grid.origin[1], grid.origin[1] + grid.ny * grid.cell)
+        ax.imshow((grid.inside & ~grid.seen).astype(int), origin="lower", extent=extent, cmap=veil,
+                  vmin=0, vmax=1, zorder=2, interpolation="nearest")
+        front = grid.centres()[grid.frontier()]
+        ax.plot(front[:, 0], front[:, 1], ".", color="cyan", ms=1.5, zorder=5)
+        path = np.vstack([np.asarray(r["route"]) for r in episode.trace[:k]])
+        ax.plot(path[:, 0], path[:, 1], "-", color="tab:blue", lw=1.2, zorder=6)
+        ax.plot(im.points[:, 0], im.points[:, 1], "o", mfc="none", mec="red", ms=6, mew=1.3, zorder=6)
+        nxt = episode.trace[k - 1].get("next")
+        if nxt is not None:
+            ax.plot(*nxt, "kx", ms=8, mew=2, zorder=7)
+        est = im.estimate()
+        ax.plot(*est, "D", color="magenta", mec="k", ms=6, zorder=7)
+        ax.plot(*src, "*", color="lime", mec="k", ms=10, zorder=7)
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
+        ax.set_title(f"step {k}: seen {100 * grid.seen_fraction:.0f} %, map rev. {keeper.revision}, "
+                     f"model error {100 * im.model_error:.0f} %", fontsize=8)
+        ax.tick_params(labelsize=7)
+    fig.colorbar(tpc, ax=fig.axes, shrink=0.8, label="imaging function $P_M$ (believed mesh)")
+    fig.suptitle(f"reciprocity search on an unknown map ({n} steps, {episode.summary['n_measurements']} "
+                 f"readings): believed against true walls", fontsize=10)
+    handles = [
+        Patch(color="0.55", label="believed obstacles"),
+        Line2D([], [], color="red", lw=1.0, label="true obstacles (hidden from the strategy)"),
+        Patch(color=(0.1, 0.1, 0.1, 0.55), label="not yet seen (free in the model)"),
+        Line2D([], [], marker=".", ls="", color="cyan", label="frontier"),
+        Line2D([], [], marker="*", ls="", color="lime", mec="k", ms=10, label="true source"),
+        Line2D([], [], marker="D", ls="", color="magenta", mec="k", ms=6, label="estimate"),
+        Line2D([], [], marker="o", ls="", mfc="none", mec="red", ms=6, label="observation points"),
+        Line2D([], [], marker="x", ls="", color="k", ms=8, mew=2, label="next point"),
+        Line2D([], [], color="tab:blue", lw=1.2, label="path"),
+    ]
+    fig.legend(handles=handles, loc="outside lower center", ncols=5, fontsize=7, facecolor="0.85")
+    return fig
