@@ -105,6 +105,10 @@ def _write_figures(out: Path, episode, strategy, platform, arena, *, video: bool
                                   floor=floor)
         files.append(out / f"{prefix}_path.png")
     fig.savefig(files[-1], dpi=150)
+    if getattr(strategy, "mapping", None) is not None:          # map: unknown
+        from .viz.mapping import mapping_steps_figure
+        files.append(out / f"{prefix}_map_steps.png")
+        mapping_steps_figure(episode, strategy, platform.world.true_arena).savefig(files[-1], dpi=150)
     if car:
         files.extend(_write_testbed_files(out, platform))
         if video:

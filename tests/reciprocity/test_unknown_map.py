@@ -165,3 +165,14 @@ def test_reciprocity_on_an_unknown_map_holds_only_walls_the_lidar_saw():
     true = Polygon(env.world.true_arena.obstacles[0])
     assert true.difference(believed).area > 0.3 * true.area       # the unseen part is not there
     assert ep.summary["n_measurements"] == 4 or ep.summary["converged"]
+
+
+def test_run_with_unknown_map_writes_the_mapping_figure(tmp_path, capsys):
+    rc = main(["run", "--arena", "deep_u", "--strategy", "reciprocity", "--unknown-map", "--lidar", "beams=32",
+               "--h", "3", "--set", "max_steps=3", "--out", str(tmp_path), "--quiet", "--json",
+               str(tmp_path / "s.json")])
+    assert rc == 0, capsys.readouterr().err
+    assert (tmp_path / "reciprocity_map_steps.png").stat().st_size > 10_000
+    import json
+    summary = json.loads((tmp_path / "s.json").read_text())
+    assert summary["map"] == "unknown" and summary["lidar"]["beams"] == 32
