@@ -176,3 +176,16 @@ def test_run_with_unknown_map_writes_the_mapping_figure(tmp_path, capsys):
     import json
     summary = json.loads((tmp_path / "s.json").read_text())
     assert summary["map"] == "unknown" and summary["lidar"]["beams"] == 32
+
+
+def test_a_partial_map_stays_in_the_believed_arena(tmp_path):
+    part = tmp_path / "part.yaml"
+    part.write_text("boundary: [[0, 0], [140, 0], [140, 140], [0, 140]]\n"
+                    "obstacles:\n  - [[32, 68], [140, 68], [140, 74], [32, 74]]\n")
+    env = SearchEnv("maze", world={"map": {"known": str(part)}})
+    agent = StrategyAgent(STRATEGIES["reciprocity"], {"h": 3.0, "max_steps": 2})
+    ep = rollout(env, agent, seed=0)
+    told = Polygon([[32, 68], [140, 68], [140, 74], [32, 74]])
+    believed = unary_union([Polygon(o) for o in agent.strategy.solver.arena.obstacles])
+    assert told.difference(believed).area < 1.0
+    assert ep.summary["map"] == "partial"
