@@ -391,7 +391,10 @@ class ReciprocityStrategy(Strategy):
         arena (cached: a map seen before is not factorized again), the same readings
         imaged on it with the model error of the map now, and the space and reachable set
         on its mesh. Rejected targets are forgotten (the point observer, moving in
-        seen-free space, has none)."""
+        seen-free space, has none). Reachable: every node at `clearance` from the
+        believed walls, whatever the gaps between them (believed walls are thicker than
+        the true ones, so a gap the map closes at `clearance` may be open, and the
+        believed free region is connected by construction)."""
         geometry = self.mapping.arena
         self.solver = cached_solver(geometry, self.h)
         error = self.mapping.model_error(self._model_error) if self.imaging.combine == "product" \
@@ -399,7 +402,7 @@ class ReciprocityStrategy(Strategy):
         self.imaging = self.imaging.on(self.solver, model_error=error)
         self.space = self._space(geometry)
         self._node_area = self.space.cell_areas
-        self._reachable = self.space.reachable_from(position, self.clearance)
+        self._reachable = self.space.admissible(self.clearance)
         self._far, self._far_count, self._near_key = np.ones(len(self.space.points), dtype=bool), 0, None
         self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
             if self.rule == "info" else None
