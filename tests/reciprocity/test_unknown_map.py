@@ -189,3 +189,51 @@ def test_a_partial_map_stays_in_the_believed_arena(tmp_path):
     believed = unary_union([Polygon(o) for o in agent.strategy.solver.arena.obstacles])
     assert told.difference(believed).area < 1.0
     assert ep.summary["map"] == "partial"
+
+
+# -- the strategy's choices on hand-built beliefs ---------------------------------------------
+def _keeper_after_one_scan():
+    """A map of a 100 cm square seen from (20, 50) with a 30 cm lidar: the right part unseen."""
+    square = arenas.Arena.from_polygons(SQUARE)
+    keeper = MapKeeper(square, {"beams": 64, "range": 30.0, "noise": 0.0})
+    scan = Lidar(64, 30.0, 0.0).scan(square, (20.0, 50.0, 0.0), np.random.default_rng(0))
+    from reciprocity.observations import Observation
+    keeper.update([Observation((20.0, 50.0), 0.0, kind="scan", data=scan.as_data())])
+    return keeper
+
+
+def test_the_frontier_point_serves_mass_behind_unseen_space_and_only_then():
+    from reciprocity.spaces import mesh_space
+    keeper = _keeper_after_one_scan()
+    space = mesh_space(keeper.arena, 4.0)
+    allowed = keeper.admissible(space.points)
+    assert allowed.any() and not keeper.admissible(np.array([[80.0, 50.0]]))[0]
+    far = np.exp(-np.sum((space.points - [85.0, 50.0]) ** 2, axis=1) / 50.0)   # mass behind the unseen
+    near_mass = lambda y: np.array([far[np.sum((space.points - p) ** 2, axis=1) < 400].sum() for p in y])
+    point = keeper.frontier_point(space, far, allowed, (20.0, 50.0), near_mass)
+    assert point is not None and point[0] > 40.0 and abs(point[1] - 50.0) < 10.0
+    home = np.exp(-np.sum((space.points - [20.0, 50.0]) ** 2, axis=1) / 50.0)  # mass in seen space
+    assert keeper.frontier_point(space, home, allowed, (20.0, 50.0), near_mass) is None
+
+
+def test_the_model_error_narrows_as_the_map_is_seen():
+    keeper = _keeper_after_one_scan()
+    wide = keeper.model_error()
+    assert 0.05 < wide < 0.35 and keeper.model_error(0.5) == 0.5
+    square = arenas.Arena.from_polygons(SQUARE)
+    from reciprocity.observations import Observation
+    for p in [(50.0, 50.0), (80.0, 20.0), (80.0, 80.0), (20.0, 80.0), (20.0, 20.0)]:
+        scan = Lidar(64, 60.0, 0.0).scan(square, (*p, 0.0), np.random.default_rng(0))
+        keeper.update([Observation(p, 0.0, kind="scan", data=scan.as_data())])
+    assert keeper.model_error() < wide
+
+
+def test_imaging_on_the_same_solver_gives_the_same_map():
+    import reciprocity
+    solver = reciprocity.GreenSolver(arenas.load("empty"), h=6.0)
+    u = solver.field((90.0, 60.0), strength=600.0)
+    im = reciprocity.ImagingMap(solver, sigma=12.0, strength=600.0, combine="product", model_error=0.1)
+    for z in [(30.0, 30.0), (60.0, 100.0), (110.0, 30.0)]:
+        im.add(z, float(u([z])[0]))
+    np.testing.assert_allclose(im.on(solver).values(), im.values())
+    assert im.on(solver, model_error=0.3).model_error == 0.3
