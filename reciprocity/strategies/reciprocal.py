@@ -162,6 +162,16 @@ class ReciprocityStrategy(Strategy):
     gain INFO_GAIN_MIN nats, stops with ``StopReason.GAVE_UP`` and says so, rather than
     stop on one mode.
 
+    **Unknown obstacles** (a task with ``map: "unknown"``: the strategy is told the outer
+    boundary, or a partial map, and reads the platform's range scans): a
+    :class:`~reciprocity.strategies.mapping.MapKeeper` turns the scans into an occupancy
+    grid; the field is computed on the believed arena (unknown space free: optimistic),
+    re-meshed only when the believed walls change (the solver and its factorization are
+    reused otherwise) with every reading imaged again on the new mesh; the model error
+    grows with the share of the arena not yet seen; observation points lie in seen-free
+    space; and while most of the belief lies in unseen space the next point is the
+    frontier point that best serves it (see :mod:`reciprocity.strategies.mapping`).
+
     **The paper's settings** (``preset="paper"``): ``rule="nearest"``,
     ``combine="mean"`` (eq. 8), ``sigma="noise"`` (eq. 7 with ``sigma^2`` the variance
     of the measurement noise, as the paper states: 12 on the testbed), and no extent
