@@ -1,4 +1,12 @@
-"""The ``lattice`` world kind of scenario files: parameters, world, platforms."""
+"""The ``lattice`` world kind of scenario files: parameters, world, platforms.
+
+``sources: [[x, y], ...]`` (1 to MAX_SOURCES distinct transient nodes, instead of
+``source``) places several sources whose mean counts add up; ``strengths: [A0, ...]``
+are their release rates (particles per step at unit F, default: each ``strength``, which
+stays the nominal rate); ``max_sources`` (default 1 with ``source``, MAX_SOURCES with
+``sources``) is the bound a strategy is told. Every source shares the entry's cluster of
+links, as ``source`` does.
+"""
 
 from __future__ import annotations
 
@@ -6,16 +14,18 @@ import numpy as np
 from scipy.sparse.csgraph import connected_components
 
 from ..errors import SearchError
+from ..outcome import MAX_SOURCES
 from ..scenarios import WorldKind, check_keys, register_world
 from ..spaces.lattice import LatticeSpace
-from ..validation import point
+from ..validation import number, point, whole
 from ..worlds.lattice import PERCOLATION_THRESHOLD, LatticeWorld, clusters, draw_links
 
 __all__ = ["LATTICE", "LATTICE_KEYS", "MIN_RADIUS", "MAX_RADIUS"]
 
 #: Parameters of a ``lattice`` scenario.
 LATTICE_KEYS = ("radius", "p", "source", "strength", "entry", "slip", "primary", "secondary",
-                "connectivity", "lattice_seed", "map", "localisation", "links")
+                "connectivity", "lattice_seed", "map", "localisation", "links", "sources", "strengths",
+                "max_sources")
 #: Smallest lattice radius accepted.
 MIN_RADIUS = 2
 #: Largest lattice radius accepted (about 32,000 nodes and 64,000 links).
@@ -58,6 +68,58 @@ def _pair(params, key, default) -> tuple:
     return pd, pfa
 
 
+def _sources(space: LatticeSpace, params: dict) -> list | None:
+    """The ``sources`` key as a list of distinct transient nodes, or None; refuses
+    ``strengths`` without it and a ``source`` that is not its first node."""
+    sources = params.get("sources")
+    if sources is None:
+        if params.get("strengths") is not None:
+            raise SearchError(f"strengths {params['strengths']!r} needs sources: [[x, y], ...] (one release rate "
+                              "per source); a single source takes strength")
+        return None
+    if not isinstance(sources, (list, tuple)) or not 1 <= len(sources) <= MAX_SOURCES:
+        raise SearchError(f"sources must be a list of 1 to {MAX_SOURCES} lattice nodes [[x, y], ...]; "
+                          f"got {sources!r}")
+    nodes = [_node(space, q, f"sources[{i}]", transient=True) for i, q in enumerate(sources)]
+    for i, q in enumerate(nodes):
+        if q in nodes[:i]:
+            raise SearchError(f"sources[{i}] {sources[i]!r} repeats an earlier source; sources must be distinct "
+                              "nodes")
+    one = params.get("source")
+    if one is not None and _node(space, one, "source", transient=True) != nodes[0]:
+        raise SearchError(f"source {one!r} is not the first of sources {sources!r}; give either source "
+                          "(one source) or sources (several), not both")
+    return nodes
+
+
+def _several(params: dict, sources: list | None, strength: float) -> dict:
+    """``sources``, ``strengths`` (release rates A0) and ``max_sources``."""
+    # max_sources is kept as given (None: the world's default, 1 for one source and
+    # MAX_SOURCES for several), so that replacing one source by several keeps the default
+    given = params.get("max_sources")
+    m = None if given is None else whole(given, "max_sources", 1, MAX_SOURCES)
+    if sources is None:
+        return {"sources": None, "strengths": None, "max_sources": m}
+    strengths = params.get("strengths")
+    if strengths is None:
+        strengths = [strength] * len(sources)
+    elif not isinstance(strengths, (list, tuple)) or len(strengths) != len(sources):
+        raise SearchError(f"strengths must give one release rate A0 per source ({len(sources)}); got {strengths!r}")
+    strengths = [number(c, f"strengths[{i}]", 0.0, MAX_STRENGTH, lo_open=True) for i, c in enumerate(strengths)]
+    if m is not None and m < len(sources):
+        raise SearchError(f"max_sources ({m}) is less than the number of sources ({len(sources)}); "
+                          f"give max_sources from {len(sources)} to {MAX_SOURCES}")
+    return {"sources": sources, "strengths": strengths, "max_sources": m}
+
+
+def _kept_nodes(space: LatticeSpace, params: dict) -> list:
+    """Node indices that must share a cluster of links: every source, then the entry."""
+    ends = params["sources"] if params.get("sources") is not None else [params["source"]]
+    if params.get("entry") is not None:
+        ends = [*ends, params["entry"]]
+    return [int(i) for i in space.index_of(ends)]
+
+
 def _check(params: dict) -> dict:
     check_keys(params, LATTICE_KEYS, "lattice world parameter")
     out = dict(params)
@@ -70,7 +132,9 @@ def _check(params: dict) -> dict:
                               f"a release rate A0 in (0, {MAX_STRENGTH:g}]", lo_open=True)
     out["slip"] = _number(params, "slip", 0.04, 0.0, 1.0, "a probability p_e in [0, 1)", hi_open=True)
     space = LatticeSpace(out["radius"])
-    out["source"] = _node(space, params.get("source"), "source", transient=True)
+    sources = _sources(space, params)
+    out["source"] = _node(space, params.get("source") if sources is None else sources[0], "source", transient=True)
+    out.update(_several(params, sources, out["strength"]))
     if params.get("entry") is not None:
         out["entry"] = _node(space, params["entry"], "entry", transient=False)
     out["primary"] = _pair(params, "primary", (1.0, 0.0))
@@ -102,11 +166,9 @@ def _check(params: dict) -> dict:
                               "not both")
         present = lattice_links(links, space)
         lab = clusters(space.with_links(present))
-        ends = [int(space.index_of(out["source"])[0])]
-        if out.get("entry") is not None:
-            ends.append(int(space.index_of(out["entry"])[0]))
-        if len({int(lab[i]) for i in ends}) != 1:
-            raise SearchError(f"links {links!r}: the source and the entry are not connected on that lattice")
+        if len({int(lab[i]) for i in _kept_nodes(space, out)}) != 1:
+            what = "the sources and the entry are" if sources is not None else "the source and the entry are"
+            raise SearchError(f"links {links!r}: {what} not connected on that lattice")
         out["links"] = str(links)
     return out
 
@@ -144,9 +206,7 @@ def lattice_links(name: str, space: LatticeSpace) -> np.ndarray:
 
 def _build(params: dict, rng: np.random.Generator) -> LatticeWorld:
     full = LatticeSpace(params["radius"])
-    keep = [int(full.index_of(params["source"])[0])]
-    if params.get("entry") is not None:
-        keep.append(int(full.index_of(params["entry"])[0]))
+    keep = _kept_nodes(full, params)
     if params.get("links") is not None:               # one lattice from a file (the paper's Fig. 2)
         present, draws = lattice_links(params["links"], full), 0
     else:
@@ -156,7 +216,8 @@ def _build(params: dict, rng: np.random.Generator) -> LatticeWorld:
     return LatticeWorld(full.with_links(present), params["source"], params["strength"],
                         primary=params["primary"], secondary=params["secondary"], p=params["p"],
                         slip=params["slip"], draws=draws, map_known=params.get("map") == "known",
-                        localisation_known=params.get("localisation") == "known")
+                        localisation_known=params.get("localisation") == "known", sources=params.get("sources"),
+                        strengths=params.get("strengths"), max_sources=params.get("max_sources"))
 
 
 def _starts_on_lattice(params: dict, starts: np.ndarray) -> None:

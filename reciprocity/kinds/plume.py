@@ -4,6 +4,9 @@ Parameters (all optional except ``bounds`` and ``source``)::
 
     bounds: [x0, x1, y0, y1]      # search area (length unit)
     source: [x, y]                # or "drawn": otto's protocol (below)
+    sources: [[x, y], ...]        # or several true sources, instead of source (below)
+    strengths: [R1, R2, ...]      # their release rates (per unit time; default: each rate)
+    max_sources: 4                # the task's public bound on the number of sources
     rate: 2                       # release rate R (per unit time)
     a: 1                          # sensor radius
     D: 1                          # diffusivity
@@ -29,6 +32,13 @@ centre cell of the grid after a forced first hit ``h0 >= 1`` (drawn as otto draw
 over an unbounded plane, unless ``initial_hit`` is a count); the source is then drawn
 from the posterior of a uniform prior over the other cells given that hit, so that the
 strategy's Bayesian belief is exact. The strategy is told ``h0`` (never the source).
+
+``sources`` (1 to MAX_SOURCES distinct points in the area) places several sources that
+release independently: the hit rate is the sum of their rates. ``strengths`` are those
+release rates themselves, in the unit of ``rate`` (which stays the nominal rate the
+strategy is told, as a poisson world's ``strength``); the mismatch's ``rate_factor``
+scales each. ``max_sources`` (default 1 with ``source``, MAX_SOURCES with ``sources``)
+is the bound a strategy is told; it never learns the sources, their number or strengths.
 """
 
 from __future__ import annotations
@@ -38,6 +48,7 @@ from scipy.special import k0
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
+from ..outcome import MAX_SOURCES
 from ..validation import MAX_AGENTS, MAX_CELLS, MAX_COORD, Bound, point, starts_in_box, whole
 from ..worlds.plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, SensorFault, plume_length
 
@@ -46,7 +57,7 @@ __all__ = ["PLUME", "PLUME_KEYS", "hit_probabilities", "otto_max_hits", "otto_in
 #: Parameters of a ``plume`` scenario.
 PLUME_KEYS = ("bounds", "source", "rate", "a", "D", "tau", "V", "wind_direction", "form", "dt",
               "found_radius", "motion", "step", "max_turn", "n_turns", "moves", "max_hits",
-              "initial_hit", "mismatch", "sensors")
+              "initial_hit", "mismatch", "sensors", "sources", "strengths", "max_sources")
 MOTIONS = ("turn", "grid", "reach")
 
 
@@ -130,7 +141,8 @@ def _check(params: dict) -> dict:
     moves = params.get("moves", 4)
     if moves not in (4, 8):
         raise SearchError(f"plume moves must be 4 or 8; got {moves!r}")
-    src = params.get("source")
+    sources = _sources(params, out["bounds"])
+    src = params.get("source") if sources is None else sources[0]
     if src == "drawn":
         if motion != "grid":
             raise SearchError("source: drawn (otto's protocol) needs motion: grid")
@@ -146,6 +158,7 @@ def _check(params: dict) -> dict:
         out["source"] = s.tolist()
         if "initial_hit" in params:
             raise SearchError("plume initial_hit applies only with source: drawn")
+    out.update(_several(params, sources, out))
     mh = params.get("max_hits")
     if mh not in (None, "auto") and (isinstance(mh, bool) or not isinstance(mh, int) or not 1 <= mh <= 1000):
         raise SearchError(f"plume max_hits must be null, 'auto' or a count from 1 to 1000; got {mh!r}")
@@ -162,6 +175,60 @@ def _check(params: dict) -> dict:
     out["sensors"] = tuple(f if isinstance(f, SensorFault) else SensorFault.from_dict(f, f"plume sensors[{k}]")
                            for k, f in enumerate(sensors))
     return out
+
+
+def _sources(params: dict, bounds: tuple) -> list | None:
+    """The ``sources`` key as a list of distinct points in `bounds`, or None; refuses
+    ``strengths`` without it and a ``source`` that is not its first point."""
+    sources = params.get("sources")
+    if sources is None:
+        if params.get("strengths") is not None:
+            raise SearchError(f"plume strengths {params['strengths']!r} needs sources: [[x, y], ...] (one release "
+                              "rate per source); a single source takes rate")
+        return None
+    if not isinstance(sources, (list, tuple)) or not 1 <= len(sources) <= MAX_SOURCES:
+        raise SearchError(f"plume sources must be a list of 1 to {MAX_SOURCES} points [[x, y], ...]; "
+                          f"got {sources!r}")
+    (x0, x1), (y0, y1) = bounds
+    pts = [point(p, f"plume sources[{i}]") for i, p in enumerate(sources)]
+    for i, q in enumerate(pts):
+        if not (x0 <= q[0] <= x1 and y0 <= q[1] <= y1):
+            raise SearchError(f"plume sources[{i}] {sources[i]!r} is outside the area "
+                              f"[{x0:g}, {x1:g}] x [{y0:g}, {y1:g}]")
+        if any(np.array_equal(q, o) for o in pts[:i]):
+            raise SearchError(f"plume sources[{i}] {sources[i]!r} repeats an earlier source; sources must be "
+                              "distinct")
+    one = params.get("source")
+    if one is not None and (not isinstance(one, (list, tuple)) or not np.array_equal(point(one, "plume source"),
+                                                                                    pts[0])):
+        raise SearchError(f"plume source {one!r} is not the first of sources {sources!r}; give either source "
+                          "(one source) or sources (several), not both")
+    return [q.tolist() for q in pts]
+
+
+def _several(params: dict, sources: list | None, out: dict) -> dict:
+    """``sources``, ``strengths`` (release rates, per unit time) and ``max_sources``,
+    checked against the nominal rate and time step in `out`."""
+    # max_sources is kept as given (None: the world's default, 1 for one source and
+    # MAX_SOURCES for several), so that replacing one source by several keeps the default
+    given = params.get("max_sources")
+    m = None if given is None else whole(given, "plume max_sources", 1, MAX_SOURCES)
+    if sources is None:
+        return {"sources": None, "strengths": None, "max_sources": m}
+    strengths = params.get("strengths")
+    if strengths is None:
+        strengths = [out["rate"]] * len(sources)
+    elif not isinstance(strengths, (list, tuple)) or len(strengths) != len(sources):
+        raise SearchError(f"plume strengths must give one release rate per source ({len(sources)}); "
+                          f"got {strengths!r}")
+    strengths = [float(BOUNDS["rate"].check(c, f"plume strengths[{i}]")) for i, c in enumerate(strengths)]
+    if sum(strengths) * out["dt"] > MAX_HITS_PER_STEP:
+        raise SearchError(f"plume strengths {strengths!r} × dt must sum to at most {MAX_HITS_PER_STEP:g} expected "
+                          f"releases per step; got {sum(strengths) * out['dt']:g}")
+    if m is not None and m < len(sources):
+        raise SearchError(f"plume max_sources ({m}) is less than the number of sources ({len(sources)}); "
+                          f"give max_sources from {len(sources)} to {MAX_SOURCES}")
+    return {"sources": sources, "strengths": strengths, "max_sources": m}
 
 
 def _params(params: dict) -> PlumeParams:
@@ -210,7 +277,8 @@ def _build(params: dict, rng: np.random.Generator) -> PlumeWorld:
         extra["first_hit_at"] = centre.tolist()
     return PlumeWorld(params["bounds"], source, p, mismatch=params["mismatch"],
                       found_radius=params["found_radius"], grid=grid, nominal_extra=extra,
-                      sensors=params.get("sensors", ()))
+                      sensors=params.get("sensors", ()), sources=params.get("sources"),
+                      strengths=params.get("strengths"), max_sources=params.get("max_sources"))
 
 
 def _default_start(world: PlumeWorld, rng: np.random.Generator) -> np.ndarray:
@@ -228,10 +296,11 @@ def _walker(world: PlumeWorld, scenario, options: dict):
         raise SearchError(f"unknown walker option(s) {', '.join(sorted(unknown))}; choose from slip")
     starts = scenario.starts
     if starts is not None:
-        d = np.hypot(*(np.asarray(starts)[:, :2] - world.source).T)
+        d = np.hypot(*(np.asarray(starts)[:, None, :2] - world.sources[None]).transpose(2, 0, 1))
         if np.any(d <= world.found_radius):
-            raise SearchError(f"a start is on the source (within found_radius {world.found_radius:g}); "
-                              "start farther away")
+            on = world.sources[np.argwhere(d <= world.found_radius)[0, 1]]
+            raise SearchError(f"a start is on the source ({on[0]:g}, {on[1]:g}) (within found_radius "
+                              f"{world.found_radius:g}); start farther away")
         if "first_hit_at" in world._extra and np.any(np.hypot(*(starts[:, :2] - world._extra["first_hit_at"]).T) > 1e-6):
             raise SearchError("source: drawn needs the start at the centre cell "
                               f"{world._extra['first_hit_at']} (otto's protocol)")

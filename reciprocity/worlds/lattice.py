@@ -7,6 +7,9 @@ random walk on the incomplete lattice as an absorbing Markov chain (Sec. 2.2):
 solve for the source's row, never a dense inverse. Sensor 1 counts Poisson particles of
 mean λ at the searcher's node (eq. (4)); sensor 2 reports the primary and secondary links
 around it through the detection matrices of eq. (8).
+
+Several sources (``sources``) release independently, so the mean counts add up:
+``λ_j = Σ_k A0_k · F_(i_k) j``, one sparse LU solve per source.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
 from ..errors import SearchError
+from ..outcome import MAX_SOURCES
 from ..spaces.lattice import LatticeSpace
 from .base import Reading, World
 
@@ -127,10 +131,11 @@ class LatticeWorld(World):
     ----------
     space : LatticeSpace
         The *true* lattice (its missing links).
-    source : array_like, shape (2,)
-        Source node (lattice units).
+    source : array_like, shape (2,), or None
+        Source node (lattice units); None when `sources` gives them.
     strength : float
-        Release rate A0 (particles per step at unit F).
+        Release rate A0 (particles per step at unit F): the nominal one, and the true
+        one of every source unless `strengths` says otherwise.
     primary, secondary : (float, float)
         ``(p_d, p_fa)`` of the link detector for the adjacent and the next links (eq. (8)).
     p : float, optional
@@ -147,6 +152,15 @@ class LatticeWorld(World):
         ``localisation: known``): an oracle position sensor for the ladder of
         :mod:`reciprocity.campaign.tables.ristic2014`. False (the paper): the searcher
         knows only its start and the controls it commanded.
+    sources : array_like, shape (K, 2), optional
+        Several source nodes (lattice units, distinct transient nodes), replacing
+        `source` (which, if given, must be the first); the mean counts add up.
+    strengths : array_like, shape (K,), optional
+        Their release rates A0 (particles per step at unit F; default: each `strength`).
+    max_sources : int, optional
+        The task's public bound on the number of sources (default 1 with `source`,
+        MAX_SOURCES with `sources`): part of what a strategy is told, never the number of
+        sources itself.
     """
 
     kind = "lattice"
@@ -154,20 +168,51 @@ class LatticeWorld(World):
 
     def __init__(self, space: LatticeSpace, source, strength: float, *, primary=(1.0, 0.0),
                  secondary=(0.8, 0.1), p: float | None = None, slip: float = 0.04, draws: int = 1,
-                 map_known: bool = False, localisation_known: bool = False):
+                 map_known: bool = False, localisation_known: bool = False, sources=None, strengths=None,
+                 max_sources: int | None = None):
         self.space = space
-        self.source = np.asarray(source, dtype=float).reshape(2)
+        self.sources = np.asarray(source if sources is None else sources, dtype=float).reshape(-1, 2)
+        if not 1 <= len(self.sources) <= MAX_SOURCES:
+            raise SearchError(f"a lattice world has 1 to {MAX_SOURCES} sources; got {len(self.sources)}")
+        if sources is not None and source is not None \
+                and not np.array_equal(np.asarray(source, dtype=float).reshape(2), self.sources[0]):
+            raise SearchError(f"source {source!r} differs from the first of sources {sources!r}; "
+                              "give either source (one source) or sources (several)")
+        self.source = self.sources[0]
         self.strength = float(strength)
+        given = np.full(len(self.sources), self.strength) if strengths is None else np.asarray(strengths, dtype=float)
+        if given.shape != (len(self.sources),) or not np.all(np.isfinite(given) & (given > 0)):
+            raise SearchError(f"strengths must be one positive release rate A0 per source; got {strengths!r}")
+        #: true release rates A0 of the sources (the nominal one is `strength`)
+        self.strengths = given
+        #: the task's public bound on the number of sources (1: the classic problem)
+        self.max_sources = int(max_sources if max_sources is not None else (1 if sources is None else MAX_SOURCES))
         self.primary, self.secondary = tuple(map(float, primary)), tuple(map(float, secondary))
         self.p, self.slip, self.draws = p, float(slip), int(draws)
         self.map_known = bool(map_known)
         self.localisation_known = bool(localisation_known)
-        self.source_node = int(space.index_of(self.source)[0])
-        self.lam = self.strength * green_row(space, self.source_node)
+        self.source_nodes = space.index_of(self.sources).astype(int)
+        if np.any(self.source_nodes < 0) or len(set(self.source_nodes.tolist())) < len(self.source_nodes):
+            raise SearchError(f"sources {self.sources.tolist()} must be distinct nodes of the lattice (integers "
+                              f"within R0 = {space.radius:g})")
+        self.source_node = int(self.source_nodes[0])
+        # eq. (3)-(4) per source; independent releases add their mean counts
+        self.lam = np.sum([c * green_row(space, i) for c, i in zip(self.strengths, self.source_nodes.tolist())],
+                          axis=0)
         self._second = space.second_link_of
+
+    @property
+    def n_sources(self) -> int:
+        """Number of true sources."""
+        return len(self.sources)
 
     def contains(self, points) -> np.ndarray:
         return self.space.contains(points)
+
+    def found(self, position) -> bool:
+        """An observer at `position` is within ``found_radius`` of any source (on its node)."""
+        d = np.hypot(*(self.sources - np.asarray(position, dtype=float)[:2]).T)
+        return bool(d.min() <= self.found_radius)
 
     def mean(self, position) -> float:
         """Mean count λ at `position` (eq. (4)): ``A0 · F_ij``."""
@@ -209,19 +254,25 @@ class LatticeWorld(World):
                    localisation="known" if self.localisation_known else "unknown")
         if self.map_known:
             out["links"] = self.space.present.copy()      # the map, never the source
+        if self.max_sources > 1:
+            out["max_sources"] = self.max_sources
         return out
 
     def describe_start(self, start) -> dict:
-        """``shortest_path``: links from the node of `start` to the source over the links
-        present (None when they are not connected)."""
+        """``shortest_path``: links from the node of `start` to the nearest source over the
+        links present (None when they are not connected)."""
         from scipy.sparse.csgraph import shortest_path
         node = int(self.space.index_of(np.asarray(start, dtype=float)[:2])[0])
         if node < 0:
             return {"shortest_path": None}
-        d = shortest_path(self.space.adjacency, unweighted=True, directed=False, indices=node)[self.source_node]
+        d = shortest_path(self.space.adjacency, unweighted=True, directed=False, indices=node)[self.source_nodes].min()
         return {"shortest_path": int(d) if np.isfinite(d) else None}
 
     def describe(self) -> dict:
-        return dict(strength=self.strength, missing_links=int((~self.space.present).sum()),
-                    lattice_draws=self.draws, map_known=self.map_known,
-                    localisation_known=self.localisation_known)
+        out = dict(strength=self.strength, missing_links=int((~self.space.present).sum()),
+                   lattice_draws=self.draws, map_known=self.map_known,
+                   localisation_known=self.localisation_known)
+        if self.max_sources > 1 or self.n_sources > 1:
+            out.update(sources=self.sources.tolist(), strengths=self.strengths.tolist(),
+                       n_sources=self.n_sources, max_sources=self.max_sources)
+        return out

@@ -25,6 +25,9 @@ kept as its paper writes it (:data:`FORMS`):
 Without wind (``V = 0``, ``λ = sqrt(D τ)``) both reduce to the grid model of otto (Loisy
 & Eloy 2022): ``μ(d) = R Δt · K0(d/λ) / ln(λ/a)`` with ``a = Δx/2``.
 
+Several sources (``sources``) release independently, so the hit rate is the sum of
+their rates (the hits of independent Poisson processes add up).
+
 The world can differ from what a strategy is told (:class:`PlumeMismatch`: the true rate,
 wind, diffusivity and lifetime as multiples of the nominal ones), and each observer's
 sensor can be faulty (:class:`SensorFault`: a gain, false alarms, a failure time), which
@@ -39,6 +42,7 @@ import numpy as np
 
 from ..errors import SearchError
 from ..models.plume import FORMS, PlumeParams, plume_length, plume_rate
+from ..outcome import MAX_SOURCES
 from ..validation import number
 from .base import Reading, World
 
@@ -131,20 +135,20 @@ class SensorFault:
 
 
 class PlumeWorld(World):
-    """A source in a rectangle, read by a hit counter (the truth of ``plume`` scenarios).
+    """Sources in a rectangle, read by a hit counter (the truth of ``plume`` scenarios).
 
     Parameters
     ----------
     bounds : ((x0, x1), (y0, y1))
         The search area (length unit).
-    source : array_like, shape (2,)
-        The true source.
+    source : array_like, shape (2,), or None
+        The true source (length unit); None when `sources` gives them.
     params : PlumeParams
         The nominal hit model (what a strategy is told).
     mismatch : PlumeMismatch
         How the truth differs from `params`.
     found_radius : float
-        The search ends (FOUND) once an observer is within this distance of the source.
+        The search ends (FOUND) once an observer is within this distance of a source.
     grid : float or None
         Cell size when observers move on a grid of cell centres (otto), else None.
     nominal_extra : dict
@@ -153,26 +157,60 @@ class PlumeWorld(World):
         Observer k's sensor fault, as observer k's start in a scenario's ``start`` list:
         observers beyond the list are healthy (a faulty entry beyond the run's observers
         is refused by the scenario's ``check_observers``).
+    sources : array_like, shape (K, 2), optional
+        Several true sources (length unit), replacing `source` (which, if given, must be
+        the first); the hit rate is the sum of their rates.
+    strengths : array_like, shape (K,), optional
+        Their release rates (per unit time, the unit of ``params.rate``; default: each the
+        nominal ``params.rate``), before the mismatch's ``rate_factor``. The strategy is
+        told the nominal rate only.
+    max_sources : int, optional
+        The task's public bound on the number of sources (default 1 with `source`,
+        MAX_SOURCES with `sources`): part of what a strategy is told, never the number of
+        sources itself.
     """
 
     kind = "plume"
 
     def __init__(self, bounds, source, params: PlumeParams, *, mismatch: PlumeMismatch | None = None,
                  found_radius: float = 1.0, grid: float | None = None, nominal_extra: dict | None = None,
-                 sensors=()):
+                 sensors=(), sources=None, strengths=None, max_sources: int | None = None):
         self.bounds = tuple(tuple(float(v) for v in b) for b in bounds)
-        self.source = np.asarray(source, dtype=float).reshape(2)
+        self.sources = np.asarray(source if sources is None else sources, dtype=float).reshape(-1, 2)
+        if not 1 <= len(self.sources) <= MAX_SOURCES:
+            raise SearchError(f"a plume world has 1 to {MAX_SOURCES} sources; got {len(self.sources)}")
+        if sources is not None and source is not None \
+                and not np.array_equal(np.asarray(source, dtype=float).reshape(2), self.sources[0]):
+            raise SearchError(f"plume source {source!r} differs from the first of sources {sources!r}; "
+                              "give either source (one source) or sources (several)")
+        self.source = self.sources[0]
         self.params = params
         self.mismatch = mismatch or PlumeMismatch()
         self.truth = params.scaled(self.mismatch)
+        given = np.full(len(self.sources), params.rate) if strengths is None else np.asarray(strengths, dtype=float)
+        if given.shape != (len(self.sources),) or not np.all(np.isfinite(given) & (given > 0)):
+            raise SearchError(f"plume strengths must be one positive release rate per source; got {strengths!r}")
+        # each source's rate as a multiple of the nominal one (1 exactly when not given),
+        # applied to the true model, which carries the mismatch's rate_factor
+        self._weights = given / params.rate
+        #: true release rates (per unit time; the nominal rate is the task's, ``params.rate``)
+        self.strengths = self._weights * self.truth.rate
+        #: the task's public bound on the number of sources (1: the classic problem)
+        self.max_sources = int(max_sources if max_sources is not None else (1 if sources is None else MAX_SOURCES))
         self.found_radius = float(found_radius)
         self.grid = grid
         self._extra = dict(nominal_extra or {})
         self.sensors = tuple(sensors)
 
+    @property
+    def n_sources(self) -> int:
+        """Number of true sources."""
+        return len(self.sources)
+
     def rate(self, at) -> np.ndarray:
-        """True mean hit rate at `at` (m, 2), shape (m,)."""
-        return plume_rate(at, self.source[None], self.truth)[:, 0]
+        """True mean hit rate at `at` (m, 2), shape (m,), hits per unit time: the sum of
+        the sources' rates (independent releases)."""
+        return plume_rate(at, self.sources, self.truth) @ self._weights
 
     def read(self, position, *, time, dwell, rng, observer: int = 0) -> Reading:
         mu = float(self.rate(np.asarray(position, dtype=float)[None])[0]) * float(dwell)
@@ -185,13 +223,24 @@ class PlumeWorld(World):
         (x0, x1), (y0, y1) = self.bounds
         return (p[:, 0] >= x0) & (p[:, 0] <= x1) & (p[:, 1] >= y0) & (p[:, 1] <= y1)
 
+    def found(self, position) -> bool:
+        """An observer at `position` is within ``found_radius`` of any source."""
+        d = np.hypot(*(self.sources - np.asarray(position, dtype=float)[:2]).T)
+        return bool(d.min() <= self.found_radius)
+
     def nominal(self) -> dict:
-        return dict(bounds=self.bounds, plume=self.params, found_radius=self.found_radius,
-                    grid=self.grid, **self._extra)
+        out = dict(bounds=self.bounds, plume=self.params, found_radius=self.found_radius,
+                   grid=self.grid, **self._extra)
+        if self.max_sources > 1:
+            out["max_sources"] = self.max_sources
+        return out
 
     def describe(self) -> dict:
         out = dict(plume=self.params.as_dict(), mismatch=self.mismatch.as_dict(),
                    found_radius=self.found_radius, initial_hit=self._extra.get("initial_hit"))
         if any(not f.healthy for f in self.sensors):      # the env refuses faults beyond its observers
             out["sensors"] = [f.as_dict() for f in self.sensors]
+        if self.max_sources > 1 or self.n_sources > 1:
+            out.update(sources=self.sources.tolist(), strengths=self.strengths.tolist(),
+                       n_sources=self.n_sources, max_sources=self.max_sources)
         return out
