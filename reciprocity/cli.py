@@ -394,8 +394,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                      help="strategy parameter, e.g. --set eps=0.1 (repeatable)")
     run.add_argument("--unknown-map", action="store_true",
-                     help="poisson worlds: tell the strategy the outer boundary only (map: unknown); "
-                          "the observer maps the obstacles with its range sensor")
+                     help="map: unknown. Poisson worlds: tell the strategy the outer boundary only "
+                          "(the observer maps the obstacles with its range sensor); lattice worlds: the links unknown")
     run.add_argument("--lidar", action="append", default=[], metavar="KEY=VALUE",
                      help="the observer's range sensor, e.g. --lidar beams=64,range=40,noise=0.5 "
                           "(cm; default with --unknown-map: 64 beams, 40 cm, 0.5 cm)")
