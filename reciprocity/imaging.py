@@ -196,6 +196,7 @@ class ImagingMap(Belief):
         self._columns = _Columns(len(self.nodes))
         self._clear()
         self._node_areas = None
+        self.allowed: np.ndarray | None = None
 
     def _clear(self) -> None:
         """Forget what derives from the readings; with a known strength the columns of
@@ -285,11 +286,17 @@ class ImagingMap(Belief):
         return np.maximum(c, 0.0)
 
     def _marginal_misfit(self) -> np.ndarray:
+        """:meth:`_marginal_misfit_now`, kept until the next reading."""
+        if "marginal" not in self._cache:
+            self._cache["marginal"] = self._marginal_misfit_now()
+        return self._cache["marginal"]
+
+    def _marginal_misfit_now(self) -> np.ndarray:
         """``-log`` of the likelihood integrated over the log-uniform strength prior, per
         node (up to a constant): ``Σ (c g_k - I_k)^2 / sigma^2`` is quadratic in ``c``,
         ``(A c^2 - 2 B c + C) / sigma^2``; its integral over ``[lo, hi]`` is a difference
         of normal CDFs, and the prior's ``1/c`` is averaged over the cells of a log grid."""
-        from scipy.special import log_ndtr, ndtr
+        from scipy.special import log_ndtr
         lo, hi = self.strength_range
         free = ~self.saturated
         g, I = self._g[:, free], self.readings[free]
@@ -308,17 +315,35 @@ class ImagingMap(Belief):
         lo_g = max(lo, hi * 1e-6)
         edges = np.geomspace(lo_g, hi, STRENGTH_CELLS + 1)
         t = (edges[None, :] - chat[:, None]) / s[:, None]
-        mass = np.diff(ndtr(t), axis=1)
-        total = mass.sum(axis=1)
+        log_below, log_above = log_ndtr(t), log_ndtr(-t)
+        mass = np.diff(np.exp(log_below), axis=1)
         pdf = np.exp(-0.5 * t * t) / np.sqrt(2.0 * np.pi)
         mid = np.sqrt(edges[:-1] * edges[1:])
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             # 1/c at the mean of c within each cell (exact as the Gaussian narrows)
             within = chat[:, None] + s[:, None] * (pdf[:, :-1] - pdf[:, 1:]) / mass
-            within = np.where(mass > 1e-12, np.clip(within, edges[:-1], edges[1:]), mid)
-            mean_inv = np.where(total > 1e-12, np.sum(mass / within, axis=1) / total,
-                                1.0 / np.clip(chat, lo_g, hi))
+            within = np.where(mass > 1e-12, within, mid)
+            # a cell narrow against the Gaussian: its density is linear across it, and the
+            # difference of densities above would cancel to round-off
+            width, centre = np.diff(edges), 0.5 * (edges[:-1] + edges[1:])
+            linear = centre - width ** 2 / 12.0 * (centre - chat[:, None]) / s[:, None] ** 2
+            within = np.clip(np.where(np.diff(t, axis=1) < 1e-2, linear, within), edges[:-1], edges[1:])
+            # the cells' shares of the mass from their logarithms: far in a tail (a node
+            # whose fitted strength lies far outside the prior) the masses themselves
+            # underflow, and their ratios are what counts
+            la, lb = log_below[:, :-1], log_below[:, 1:]
+            ua, ub = log_above[:, :-1], log_above[:, 1:]
+            low = lb + np.log1p(-np.exp(np.minimum(la - lb, 0.0)))
+            high = ua + np.log1p(-np.exp(np.minimum(ub - ua, 0.0)))
+            log_cell = np.where(t[:, :-1] + t[:, 1:] < 0, low, high)
+            top = log_cell.max(axis=1, keepdims=True)
+            share = np.exp(log_cell - top)
+            mean_inv = np.sum(share / within, axis=1) / share.sum(axis=1)
+            # a Gaussian so wide that no cell differs from the next: the prior alone
+            flat = np.log(hi / lo_g) / (hi - lo_g)
+            mean_inv = np.where(np.isfinite(mean_inv) & np.isfinite(top[:, 0]), mean_inv, flat)
         misfit = (C - B * chat) / self.sigma ** 2 - log_int - np.log(mean_inv)
+        del log_below, log_above
         # a node no reading sees: the likelihood does not depend on c, the prior integrates to 1
         misfit = np.where(tiny, C / self.sigma ** 2 - np.log(np.log(hi / lo_g)), misfit)
         if self.saturated.any():
@@ -382,9 +407,48 @@ class ImagingMap(Belief):
                         s = self._correlated_misfit(r)
                     else:
                         s = np.sum(r * r, axis=1)
+                if self.allowed is not None:
+                    s = np.where(self.allowed, s, np.inf)
                 P = np.exp(-(s - s.min()))
             self._cache["P"] = P
         return self._cache["P"]
+
+    def restrict(self, allowed: np.ndarray | None) -> None:
+        """Let the source lie only at the nodes where `allowed` (bool, one per node) is
+        True: a prior that is zero elsewhere (``combine="product"``). None lifts it."""
+        if allowed is not None:
+            allowed = np.asarray(allowed, dtype=bool)
+            if allowed.shape != (len(self.nodes),) or not allowed.any():
+                raise ReciprocityError("allowed must be a mask over the nodes with at least one True")
+        self.allowed = allowed
+        self._cache.clear()
+
+    def log_evidence_ratio(self) -> np.ndarray:
+        """Per node, the log Bayes factor of "a source here" against "no source": ``log
+        p(I | x) - log p(I | none)``, the strength integrated over the log-uniform prior of
+        `strength_range`, the readings' noise that of eq. (7) (variance ``sigma^2/2``).
+
+        A node no reading sees scores 0 (the readings cannot tell); a node where a source of
+        any strength in the prior would have raised the readings scores below 0; a node
+        that explains readings the null cannot scores above 0. Needs `strength_range`;
+        saturated readings are left out (they say only that a source is near).
+        """
+        if self.strength_range is None:
+            raise ReciprocityError("log_evidence_ratio needs strength_range (the prior of the strength)")
+        self._require_data()
+        lo, hi = self.strength_range
+        free = ~self.saturated
+        if self.saturated.any():
+            other = copy.copy(self)
+            other._clear()
+            other.points, other.readings = self.points[free], self.readings[free]
+            other.saturated = self.saturated[free]
+            other._columns = _Columns(len(self.nodes))
+            other._columns.append(self._g[:, free])
+            return other.log_evidence_ratio()
+        lo_g = max(lo, hi * 1e-6)
+        null = float(self.readings @ self.readings) / self.sigma ** 2
+        return null - self._marginal_misfit() - np.log(np.log(hi / lo_g))
 
     # ------------------------------------------------------------------ belief protocol
     def update(self, obs) -> None:
