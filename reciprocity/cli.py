@@ -96,8 +96,21 @@ def _write_figures(out: Path, episode, strategy, platform, arena, *, video: bool
     car = platform.name == "car"
     prefix = f"{name}_car" if car else name
     files = []
+    book = getattr(strategy, "book", None) if name == "reciprocity" else None
+    if book is not None:                                        # several sources
+        from .viz.figures import sources_figure
+        fig = sources_figure(episode, book.active, arena)
+        files.append(out / f"{prefix}_sources.png")
+        fig.savefig(files[-1], dpi=150)
     if name == "reciprocity":
-        fig = imaging_steps_figure(episode, strategy.imaging, arena, eps=strategy.eps)
+        # the first source's map: every reading, imaged as one source (the steps to the first)
+        steps = None
+        if book is not None:          # the first step, each step that found a source, the last
+            counts = [len(r.get("estimates") or []) for r in episode.trace]
+            steps = sorted({1, len(counts)} | {k + 1 for k in range(1, len(counts)) if counts[k] > counts[k - 1]}
+                           | ({1 + counts.index(1)} if 1 in counts else set()))
+        fig = imaging_steps_figure(episode, strategy.imaging if book is None else book.raw, arena,
+                                   eps=strategy.eps, steps=steps)
         files.append(out / f"{prefix}_steps.png")
     else:
         floor = platform.testbed.floor if car else None

@@ -5,7 +5,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
-__all__ = ["StopReason", "Stop", "is_success"]
+import numpy as np
+
+__all__ = ["StopReason", "Stop", "is_success", "match_sources", "MAX_SOURCES"]
+
+#: Most sources of one world (``sources: [[x, y], ...]``) and of one search.
+MAX_SOURCES = 4
 
 
 class StopReason(str, Enum):
@@ -47,3 +52,27 @@ def is_success(stop: Stop | None, error: float | None, radius: float, *, found: 
     if found:
         return stop.reason is StopReason.FOUND
     return error is not None and error <= radius
+
+
+def match_sources(true: np.ndarray, estimates: np.ndarray) -> list[float | None]:
+    """The error of each true source (cm): the distance to the estimate assigned to it
+    by the optimal assignment (least total distance, :func:`scipy.optimize.linear_sum_assignment`);
+    None for a true source left without an estimate (more sources than estimates).
+
+    Parameters
+    ----------
+    true : ndarray, shape (K, 2)
+        The true sources.
+    estimates : ndarray, shape (k, 2)
+        The estimates (k may differ from K; extra estimates stay unmatched).
+    """
+    from scipy.optimize import linear_sum_assignment
+    true = np.atleast_2d(np.asarray(true, dtype=float))
+    est = np.asarray(estimates, dtype=float).reshape(-1, 2)
+    out: list[float | None] = [None] * len(true)
+    if len(est) == 0:
+        return out
+    d = np.hypot(*(true[:, None, :] - est[None, :, :]).transpose(2, 0, 1))
+    for i, j in zip(*linear_sum_assignment(d)):
+        out[int(i)] = float(d[i, j])
+    return out

@@ -162,6 +162,12 @@ class Scenario:
         if "start" in over:
             starts = _starts(over.pop("start"), f"scenario {self.name!r}", degrees=False)
         params = dict(self.params)
+        # one source given replaces several, and several replace one (with their strengths)
+        if over.get("source") is not None:
+            params.pop("sources", None)
+            params.pop("strengths", None)
+        if over.get("sources") is not None:
+            params.pop("source", None)
         params.update(over)
         params = self.kind.check(params)
         _check_starts(self.kind, params, starts, f"scenario {self.name!r}")

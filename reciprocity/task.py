@@ -128,6 +128,11 @@ class Report:
         What several observers shared.
     agents : int or None
         How many observers the agent directs (None: any number).
+    estimates : ndarray or None, shape (k, 2)
+        Every source the agent found, where the task allows several (``max_sources`` of
+        the nominal world above 1); None: the one `estimate`.
+    estimates_sd : ndarray or None, shape (k,)
+        The uncertainty of each of `estimates` (cm: the standard deviation of its belief).
     """
 
     strategy: str
@@ -141,3 +146,5 @@ class Report:
     position_support: np.ndarray | None = None
     messages: MessageLog = field(default_factory=MessageLog)
     agents: int | None = 1
+    estimates: np.ndarray | None = None
+    estimates_sd: np.ndarray | None = None

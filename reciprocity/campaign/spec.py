@@ -45,7 +45,8 @@ A list value in a strategy mapping is a grid axis: the variants are the cartesia
 product of all axes (to pass a list as a single value, wrap it: ``[[1, 2]]``).
 
 ``random_source: true`` (arena scenarios): every seed index draws the true source at
-least :data:`SOURCE_CLEARANCE` cm from the walls and the start at least
+least :data:`SOURCE_CLEARANCE` cm from the walls (a scenario with ``sources`` draws as
+many, :data:`SOURCE_SEPARATION` cm apart) and the start at least
 :data:`START_CLEARANCE` cm from them with a uniform heading, from a stream derived from
 the episode seed, so all strategies of a scenario meet the same world on the same seed.
 
@@ -90,6 +91,9 @@ __all__ = ["CampaignSpec", "ScenarioEntry", "StrategyVariant", "EpisodeTask", "l
 SOURCE_CLEARANCE = 8.0
 #: Minimum wall distance of a drawn start, cm.
 START_CLEARANCE = 5.0
+#: Minimum distance between drawn sources of a scenario with several (``sources``), cm:
+#: "well separated" in the sense of the issue that asked for them.
+SOURCE_SEPARATION = 40.0
 
 #: Most seeds (episodes per scenario and strategy variant); also ``reproduce --runs``.
 MAX_SEEDS = 100_000

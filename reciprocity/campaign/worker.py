@@ -21,7 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from ..scenarios import Scenario, load_scenario
-from .spec import SOURCE_CLEARANCE, START_CLEARANCE, EpisodeTask, entry_scenario, world_overrides
+from ..errors import SearchError
+from .spec import SOURCE_CLEARANCE, SOURCE_SEPARATION, START_CLEARANCE, EpisodeTask, entry_scenario, world_overrides
 
 __all__ = ["run_task", "run_tasks", "execute_task", "failure_row", "scenario", "world_draw",
            "cache_stats"]
@@ -66,10 +67,28 @@ def world_draw(sc: Scenario, seed: int) -> dict:
         from the walls; the heading is uniform in [0, 2π).
     """
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(_WORLD_STREAM,)))
-    source = sc.arena.random_free_points(1, rng, clearance=SOURCE_CLEARANCE)[0]
+    several = sc.params.get("sources")
+    if several:
+        sources = _separated_points(sc, len(several), rng)
+    else:
+        source = sc.arena.random_free_points(1, rng, clearance=SOURCE_CLEARANCE)[0]
     start = sc.arena.random_free_points(1, rng, clearance=START_CLEARANCE)[0]
     heading = rng.uniform(0.0, 2.0 * math.pi)
+    if several:
+        return {"sources": sources, "start": [*start.tolist(), heading]}
     return {"source": source.tolist(), "start": [*start.tolist(), heading]}
+
+
+def _separated_points(sc: Scenario, k: int, rng: np.random.Generator) -> list:
+    """`k` random sources of an arena scenario, each SOURCE_CLEARANCE cm from the walls and
+    SOURCE_SEPARATION cm from one another (drawn again, whole, until they are)."""
+    for _ in range(1000):
+        pts = sc.arena.random_free_points(k, rng, clearance=SOURCE_CLEARANCE)
+        gaps = np.hypot(*(pts[:, None] - pts[None]).transpose(2, 0, 1))[np.triu_indices(k, 1)]
+        if not gaps.size or gaps.min() >= SOURCE_SEPARATION:
+            return pts.tolist()
+    raise SearchError(f"could not draw {k} sources {SOURCE_SEPARATION:g} cm apart in arena {sc.arena.name!r} "
+                      "in 1000 tries")
 
 
 def execute_task(task: EpisodeTask):

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..errors import SearchError, UnreachableTarget
 from ..intents import Intent
-from ..outcome import is_success
+from ..outcome import is_success, match_sources
 from ..scenarios import MAX_AGENTS, Scenario, load_scenario
 from ..task import Percept, Report, Task
 from ..validation import whole
@@ -133,8 +133,9 @@ class SearchEnv:
         self._rounds, self._found_by, self._summary = 0, None, None
         # the evaluator classifies the source before the run: can the first observer reach it
         # on the true walls? (the agent gets only the platform's own reachability, on its map)
-        reach = plats[0].truly_reachable(np.asarray(world.source, dtype=float)[None])
-        self._source_reachable = True if reach is None else bool(reach[0])
+        sources = np.atleast_2d(np.asarray(getattr(world, "sources", world.source), dtype=float))
+        reach = plats[0].truly_reachable(sources)
+        self._source_reachable = True if reach is None else bool(np.all(reach))
         task = Task(world=world.kind, scenario=sc.name, world_nominal=world.nominal(),
                     platform=self.platform_name, platform_nominal=plats[0].nominal(),
                     limits=_limits(plats[0]), starts=np.array([p.pose.copy() for p in plats]),
@@ -219,7 +220,10 @@ class SearchEnv:
         if len(plats) > 1 or report.agents != 1:
             summary.update(n_agents=len(plats), messages=len(report.messages), starts=self._starts.tolist())
         true = np.array([p.true_position[:2] for p in plats], dtype=float)
-        summary["distance_at_stop"] = float(np.min(np.hypot(*(true - world.source).T)))
+        sources = np.atleast_2d(np.asarray(getattr(world, "sources", world.source), dtype=float))
+        summary["distance_at_stop"] = float(np.min(np.hypot(*(true[:, None] - sources[None]).T)))
+        if getattr(world, "max_sources", 1) > 1 or len(sources) > 1:
+            summary.update(self._several(report, est, sources, stop, world.success_radius))
         if report.position_support is not None:
             # Ristic et al. (2014) Sec. 5.1: success also needs the true node among the
             # searcher's own position particles
@@ -229,6 +233,23 @@ class SearchEnv:
                            success=bool(summary["success"]) and localised)
         self._summary = summary
         return summary
+
+    @staticmethod
+    def _several(report: Report, est, sources: np.ndarray, stop, radius: float) -> dict:
+        """The summary keys of a world with several sources: every estimate, the error of
+        each true source by optimal assignment (None: missed), and success only when the
+        number of sources is right and every one lies within `radius`."""
+        ests = report.estimates if report.estimates is not None else ([] if est is None else [est])
+        ests = np.asarray(ests, dtype=float).reshape(-1, 2)
+        errors = match_sources(sources, ests)
+        right = len(ests) == len(sources) and all(e is not None for e in errors)
+        out = dict(estimates=ests.tolist(), errors=errors, n_sources_estimated=len(ests),
+                   n_sources_right=len(ests) == len(sources),
+                   error=max(errors) if right else None,
+                   success=bool(stop.reason.converged and right and max(errors) <= radius))
+        if report.estimates_sd is not None:
+            out["estimates_sd"] = [float(v) for v in report.estimates_sd]
+        return out
 
     @property
     def summary(self) -> dict | None:

@@ -9,14 +9,15 @@ from arenas import Arena, ArenaError
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
-from ..validation import number, point
-from ..worlds.poisson import Mismatch, PoissonWorld, TRUTH_H, shifted_walls
+from ..validation import number, point, whole
+from ..worlds.poisson import MAX_SOURCES, Mismatch, PoissonWorld, TRUTH_H, shifted_walls
 from .sensing import believed_arena, check_lidar, check_map
 
 __all__ = ["POISSON", "POISSON_KEYS"]
 
 #: Parameters of a ``poisson`` scenario.
-POISSON_KEYS = ("arena", "source", "strength", "noise", "truth_h", "mismatch", "map", "lidar")
+POISSON_KEYS = ("arena", "source", "strength", "noise", "truth_h", "mismatch", "sources", "strengths",
+                "max_sources", "map", "lidar")
 #: Largest sensor noise (standard deviation, signal units).
 MAX_NOISE = 1e6
 #: Most triangles of the truth's mesh (its quadratic elements then have about 2e6 unknowns,
@@ -37,7 +38,8 @@ def _check(params: dict) -> dict:
             raise SearchError("a poisson scenario needs an arena: a built-in name, a file or a mapping")
         else:
             arena = arenas.load(a)
-        source = params.get("source")
+        sources = _sources(params)
+        source = params.get("source") if sources is None else sources[0]
         if source is not None:
             source = point(source, "source")
         arena = arena.with_scenario(source=source, strength=params.get("strength"))
@@ -48,6 +50,7 @@ def _check(params: dict) -> dict:
     out["arena"] = arena
     out["source"] = arena.source.tolist()
     out["strength"] = float(arena.strength)
+    out.update(_several(params, sources, arena))
     out["noise"] = number(params.get("noise", 12.0), "noise", 0.0, MAX_NOISE, unit="(signal units)")
     h = number(params.get("truth_h", TRUTH_H), "truth_h", 0.5, 10.0, unit="cm")
     triangles = arena.area / (0.65 * h * h)
@@ -71,6 +74,51 @@ def _check(params: dict) -> dict:
     return out
 
 
+def _sources(params: dict) -> list | None:
+    """The ``sources`` key as a list of points, or None; refuses it beside a different ``source``."""
+    sources = params.get("sources")
+    if sources is None:
+        if params.get("strengths") is not None:
+            raise SearchError("strengths needs sources: [[x, y], ...] (one strength per source); "
+                              "a single source takes strength")
+        return None
+    if not isinstance(sources, (list, tuple)) or not 1 <= len(sources) <= MAX_SOURCES:
+        raise SearchError(f"sources must be a list of 1 to {MAX_SOURCES} points [[x, y], ...]; got {sources!r}")
+    pts = [point(p, f"sources[{i}]") for i, p in enumerate(sources)]
+    one = params.get("source")
+    if one is not None and not np.allclose(point(one, "source"), pts[0]):
+        raise SearchError("give either source (one source) or sources (several), not both")
+    return [p.tolist() for p in pts]
+
+
+def _several(params: dict, sources: list | None, arena: Arena) -> dict:
+    """``sources``, ``strengths`` and ``max_sources``, checked against `arena`."""
+    # max_sources is kept as given (None: the world's default, 1 for one source and
+    # MAX_SOURCES for several), so that replacing one source by several keeps the default
+    given = params.get("max_sources")
+    m = None if given is None else whole(given, "max_sources", 1, MAX_SOURCES)
+    if sources is None:
+        return {"sources": None, "strengths": None, "max_sources": m}
+    pts = np.array(sources, dtype=float)
+    inside = arena.contains(pts)
+    if not inside.all():
+        i = int(np.argmin(inside))
+        raise SearchError(f"sources[{i}] ({pts[i, 0]:g}, {pts[i, 1]:g}) cm is outside the free region of "
+                          f"arena {arena.name!r} (outside the boundary or inside an obstacle)")
+    gaps = np.hypot(*(pts[:, None] - pts[None]).transpose(2, 0, 1))[np.triu_indices(len(pts), 1)]
+    if gaps.size and gaps.min() < 1.0:
+        raise SearchError(f"two sources are {gaps.min():.3g} cm apart; sources must be at least 1 cm apart")
+    strengths = params.get("strengths")
+    if strengths is None:
+        strengths = [float(arena.strength)] * len(pts)
+    elif not isinstance(strengths, (list, tuple)) or len(strengths) != len(pts):
+        raise SearchError(f"strengths must give one number per source ({len(pts)}); got {strengths!r}")
+    strengths = [number(c, f"strengths[{i}]", 0.0, 1e9, lo_open=True) for i, c in enumerate(strengths)]
+    if m is not None and m < len(pts):
+        raise SearchError(f"max_sources ({m}) is less than the number of sources ({len(pts)})")
+    return {"sources": pts.tolist(), "strengths": strengths, "max_sources": m}
+
+
 def _check_start(params: dict, starts: np.ndarray) -> None:
     arena = params["arena"]
     inside = arena.contains(starts[:, :2])
@@ -82,7 +130,8 @@ def _check_start(params: dict, starts: np.ndarray) -> None:
 
 def _build(params: dict, rng: np.random.Generator) -> PoissonWorld:
     return PoissonWorld(params["arena"], noise=params["noise"], h=params["truth_h"],
-                        mismatch=params["mismatch"],
+                        mismatch=params["mismatch"], sources=params.get("sources"),
+                        strengths=params.get("strengths"), max_sources=params.get("max_sources"),
                         believed=believed_arena(params["arena"], params.get("map", "known")),
                         lidar=params.get("lidar"))
 

@@ -92,7 +92,15 @@ class StrategyAgent:
                       stop=Stop(s.outcome.reason, s.outcome.detail), region_area=s.status.region_area,
                       n_measurements=s.n_measurements, n_samples=s.n_samples, n_rejected=s.n_rejected,
                       params=s.params(), position_support=support() if callable(support) else None,
-                      messages=self.messages, agents=s.agents)
+                      messages=self.messages, agents=s.agents,
+                      estimates=_array(getattr(s, "estimates", None)),
+                      estimates_sd=_array(getattr(s, "estimates_sd", None)))
+
+
+def _array(value) -> np.ndarray | None:
+    """`value` (a strategy attribute or method) as an array, or None."""
+    value = value() if callable(value) else value
+    return None if value is None else np.asarray(value, dtype=float)
 
 
 def _accepted(cls) -> set[str]:

@@ -8,7 +8,7 @@ from ..errors import SearchError
 from ..fem.green import GreenSolver
 from ..imaging import COMBINATIONS, ImagingMap
 from ..intents import Measure
-from ..outcome import StopReason
+from ..outcome import MAX_SOURCES, StopReason
 from ..spaces import MeshSpace, mesh_space
 from ..models.green import cached_solver
 from .base import SearchContext, Status, Strategy
@@ -110,6 +110,16 @@ UNREACH_MIN_READINGS = 2
 #: open (``tests/reciprocity/test_spaces.py``): "within reach" allows twice `reach` along
 #: the free region, which still excludes rooms closed off by walls.
 PATH_SLACK = 2.0
+#: Default ``max_steps``: readings of a search for one source, and for several.
+MAX_STEPS = 30
+MAX_STEPS_SEVERAL = 60
+#: Several sources: one more is sought within this distance (cm, along the free region)
+#: of the points the observer can reach: about the distance at which a source of the
+#: prior's weakest strength still stands out of the noise in the open.
+SURVEY_REACH = 30.0
+#: Default ``more_tol``: a search for several sources stops once the posterior
+#: probability of one more source is below it (see :mod:`.multi_source`).
+MORE_TOL = 0.05
 
 
 class ReciprocityStrategy(Strategy):
@@ -229,8 +239,9 @@ class ReciprocityStrategy(Strategy):
     reach : float
         Kernel length (cm) of the ``"reach"`` score: about the distance at which the
         signal still stands out of the noise.
-    max_steps : int
-        Stop after this many measurements.
+    max_steps : int, optional
+        Stop after this many measurements (default MAX_STEPS, or MAX_STEPS_SEVERAL when
+        the search looks for several sources).
     clearance : float
         Observation points keep this distance (cm) from walls.
     strength : float or "arena" or None
@@ -246,6 +257,21 @@ class ReciprocityStrategy(Strategy):
         Mesh size (cm) of the solver built by :meth:`start` when none is given.
     solver : GreenSolver, optional
         A prebuilt solver for the arena (shared across episodes: factorized once).
+    max_sources : int, optional
+        How many sources there may be; default the task's ``max_sources`` (1 unless the
+        scenario gives ``sources``). Above 1 the search finds them all without knowing
+        how many there are (:mod:`~reciprocity.strategies.multi_source`): the first as
+        with one source, then one more at a time on the readings the found ones leave
+        unexplained, until a further source is improbable; the summary then has
+        ``estimates`` and ``estimates_sd``.
+    more_tol : float
+        Several sources: stop once the posterior probability of one more source (even
+        prior odds) is below this.
+    survey_travel : float, optional
+        Several sources: while surveying for one more source, discount a point's hidden
+        mass within reach by ``exp(-distance / survey_travel)`` from the last reading
+        (cm): fewer cm driven for a few more readings (``benchmarks/several_sources.md``).
+        None (default): no discount.
 
     Examples
     --------
@@ -261,9 +287,10 @@ class ReciprocityStrategy(Strategy):
                  combine: str | None = None, sigma=None, eps: float | None = None,
                  area_tol: float | None = None, extent_tol: float | None = None,
                  d: float | None = None, reach: float | None = None,
-                 tail_tol: float | None = None, max_steps: int = 30,
+                 tail_tol: float | None = None, max_steps: int | None = None,
                  clearance: float = 3.0, strength="arena", strength_range="decade",
-                 h: float = 1.0, solver: GreenSolver | None = None):
+                 h: float = 1.0, solver: GreenSolver | None = None, max_sources: int | None = None,
+                 more_tol: float = MORE_TOL, survey_travel: float | None = None):
         super().__init__()
         if preset is not None and preset not in PRESETS:
             raise SearchError(f"preset must be one of {tuple(PRESETS)} or None; got {preset!r}")
@@ -287,8 +314,15 @@ class ReciprocityStrategy(Strategy):
                               f"got {p['sigma']!r}")
         if clearance < 0:
             raise SearchError(f"clearance must be >= 0 cm; got {clearance!r}")
-        if int(max_steps) < 1:
-            raise SearchError(f"max_steps must be at least 1; got {max_steps!r}")
+        if max_steps is not None and (isinstance(max_steps, bool) or int(max_steps) != max_steps
+                                      or int(max_steps) < 1):
+            raise SearchError(f"max_steps must be a whole number >= 1; got {max_steps!r}")
+        if max_sources is not None and (isinstance(max_sources, bool) or int(max_sources) != max_sources
+                                        or not 1 <= int(max_sources) <= MAX_SOURCES):
+            raise SearchError(f"max_sources must be a whole number from 1 to {MAX_SOURCES}, or None for "
+                              f"the task's; got {max_sources!r}")
+        if isinstance(more_tol, bool) or not isinstance(more_tol, (int, float)) or not 0 < more_tol < 1:
+            raise SearchError(f"more_tol must be a probability in (0, 1); got {more_tol!r}")
         if isinstance(strength_range, str):
             if strength_range not in ("decade", "fit"):
                 raise SearchError(f"strength_range must be 'decade', 'fit' or (lo, hi); got {strength_range!r}")
@@ -310,7 +344,14 @@ class ReciprocityStrategy(Strategy):
         self.sigma = p["sigma"] if p["sigma"] in SIGMA_RULES else float(p["sigma"])
         self.eps, self.area_tol, self.extent_tol = float(p["eps"]), float(p["area_tol"]), float(p["extent_tol"])
         self.d, self.reach, self.tail_tol = float(p["d"]), float(p["reach"]), float(p["tail_tol"])
-        self.max_steps, self.clearance = int(max_steps), float(clearance)
+        self._max_steps = None if max_steps is None else int(max_steps)
+        self.max_steps, self.clearance = self._max_steps or MAX_STEPS, float(clearance)
+        self.max_sources = None if max_sources is None else int(max_sources)
+        self.more_tol = float(more_tol)
+        if survey_travel is not None and (isinstance(survey_travel, bool) or not isinstance(survey_travel, (int, float))
+                                          or not 0 < survey_travel < float("inf")):
+            raise SearchError(f"survey_travel must be a positive length in cm, or None; got {survey_travel!r}")
+        self.survey_travel = None if survey_travel is None else float(survey_travel)
         self.strength, self.h, self.solver = strength, float(h), solver
         self.strength_range = strength_range
 
@@ -322,6 +363,8 @@ class ReciprocityStrategy(Strategy):
                     strength=self.strength if not isinstance(self.strength, float) else float(self.strength),
                     strength_range=self.strength_range if isinstance(self.strength_range, str)
                     else list(self.strength_range),
+                    max_sources=getattr(self, "sources_bound", self.max_sources), more_tol=self.more_tol,
+                    survey_travel=self.survey_travel,
                     h=self.h if self.solver is None else self.solver.h)
 
     def reading_sigma(self, nominal: dict) -> float:
@@ -370,7 +413,33 @@ class ReciprocityStrategy(Strategy):
         self._far, self._far_count = np.ones(len(self.space.points), dtype=bool), 0
         self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
             if self.rule == "info" else None
+        self._start_book(ctx, c)
         self._check_reachable()
+
+    def _start_book(self, ctx: SearchContext, strength) -> None:
+        """Several sources: a :class:`~reciprocity.strategies.multi_source.SourceBook` when
+        the task allows more than one (its ``max_sources``, or the parameter)."""
+        self.sources_bound = int(self.max_sources or ctx.nominal.get("max_sources", 1))
+        self.book = None
+        self.max_steps = self._max_steps or (MAX_STEPS if self.sources_bound == 1 else MAX_STEPS_SEVERAL)
+        if self.sources_bound > 1:
+            from .multi_source import SourceBook
+            nominal = strength if strength is not None else ctx.nominal.get("strength", ctx.arena.strength)
+            self.book = SourceBook(self.imaging, float(nominal), self.sources_bound, self.space.wall_distance)
+
+    @property
+    def estimates(self) -> np.ndarray | None:
+        """Every source found (k, 2), cm, where the task allows several; else None."""
+        book = getattr(self, "book", None)
+        if book is None:
+            return None
+        return np.array(book.found, dtype=float).reshape(-1, 2)
+
+    @property
+    def estimates_sd(self) -> np.ndarray | None:
+        """The standard deviation (cm) of the belief about each of :attr:`estimates`."""
+        book = getattr(self, "book", None)
+        return None if book is None else np.array(book.spread, dtype=float)
 
     @property
     def belief(self) -> ImagingMap:
@@ -428,14 +497,20 @@ class ReciprocityStrategy(Strategy):
             self._remesh(obs.position)
         self.n_measurements += 1
         self.n_samples += 1
-        self.imaging.update(obs)                                       # steps 9-11
+        if self.book is None:
+            self.imaging.update(obs)                                   # steps 9-11
+        else:
+            self.imaging = self.book.add(obs)
         area = self.imaging.area(self.eps)                             # step 12
         estimate = self.imaging.estimate()
         self.status = Status(estimate, area)
         region = self.imaging.nodes[self.region()]
         extent = float(np.hypot(*(region - estimate).T).max()) if len(region) else 0.0
         self.status.extra["region_extent"] = extent
-        if area < self.area_tol and extent <= self.extent_tol and self._tail_within(estimate):
+        converged = area < self.area_tol and extent <= self.extent_tol and self._tail_within(estimate, self.imaging)
+        if self.book is not None:
+            self._observe_several(converged, estimate)
+        elif converged:
             self.stop(StopReason.CONVERGED, "region smaller than area_tol")
         elif self.n_measurements >= self.max_steps:
             self._stop_at_cap()
@@ -445,11 +520,51 @@ class ReciprocityStrategy(Strategy):
                 self._choose_next()
         self.status.extra["next"] = None if self.done else self._next.tolist()
 
-    def _tail_within(self, estimate: np.ndarray) -> bool:
-        """Whether every node with ``P_M >= TAIL_EPS`` lies within `tail_tol` of `estimate`."""
+    def _observe_several(self, converged: bool, estimate: np.ndarray) -> None:
+        """The search for several sources after a reading: accept a converged source,
+        decide the number of sources when nothing more can hide, or choose the next point."""
+        book = self.book
+        if converged and not book.surveying:
+            from .multi_source import spread_of
+            book.accept(estimate, spread_of(self.imaging))
+            self.imaging = book.active
+        found = len(book.found)
+        if found:
+            self.status = Status(book.found[0].copy(), self.status.region_area,
+                                 extra=dict(self.status.extra, estimates=[f.tolist() for f in book.found]))
+        if book.surveying:
+            more = 0.0 if book.full else book.more_probability(self._survey_support(), self._node_area)
+            self.status.extra["p_more"] = more
+            if more < self.more_tol and book.next_unconfirmed(self._converged) is None:
+                why = "as many as the task allows" if book.full else f"probability of one more {more:.3f} < more_tol"
+                self.stop(StopReason.CONVERGED, f"{found} source{'s' if found > 1 else ''} found; {why}")
+            self.imaging = book.active
+        if self.done:
+            pass
+        elif self.n_measurements >= self.max_steps:
+            self._stop_at_cap()
+        else:
+            if not book.found:        # the first source: as the search for one
+                self._check_reachable()
+            elif not self._reachable.any():
+                self.stop(StopReason.UNREACHABLE, "no observation point is reachable")
+            if not self.done:
+                self._choose_next()
+        self.status.extra["next"] = None if self.done else self._next.tolist()
+
+    def _converged(self, im: ImagingMap) -> bool:
+        """Step 12 for map `im`: its region below `area_tol`, within `extent_tol` of its
+        estimate, and its tail within `tail_tol`."""
+        estimate = im.estimate()
+        region = im.nodes[im.values() >= self.eps]
+        extent = float(np.hypot(*(region - estimate).T).max()) if len(region) else 0.0
+        return im.area(self.eps) < self.area_tol and extent <= self.extent_tol and self._tail_within(estimate, im)
+
+    def _tail_within(self, estimate: np.ndarray, im: ImagingMap) -> bool:
+        """Whether every node of `im` with ``P_M >= TAIL_EPS`` lies within `tail_tol` of `estimate`."""
         if not np.isfinite(self.tail_tol):
             return True
-        tail = self.imaging.nodes[self.imaging.values() >= TAIL_EPS]
+        tail = im.nodes[im.values() >= TAIL_EPS]
         return bool(np.all(np.sum((tail - estimate) ** 2, axis=1) <= self.tail_tol ** 2))
 
     def region(self) -> np.ndarray:
@@ -512,6 +627,15 @@ class ReciprocityStrategy(Strategy):
                                                   f"{1.0 - within:.3f} (belief mass within {self.reach:g} cm "
                                                   f"of a reachable point: {within:.3f})")
 
+    def _survey_support(self) -> np.ndarray:
+        """Where one more source is sought: the nodes within SURVEY_REACH of a reachable
+        point along the free region (a source farther off, or in a room closed off by
+        walls, no reading the observer can take would show)."""
+        key = self._reachable.tobytes()
+        if getattr(self, "_support_key", None) != key:
+            self._support, self._support_key = self.space.within_path(self._reachable, SURVEY_REACH), key
+        return self._support
+
     def _near_reachable(self) -> np.ndarray:
         key = self._reachable.tobytes()
         if getattr(self, "_near_key", None) != key:
@@ -562,6 +686,18 @@ class ReciprocityStrategy(Strategy):
                                                                           self.reach))
             if nxt is not None:
                 return nxt
+        book = getattr(self, "book", None)
+        if book is not None and book.surveying:
+            # the hidden region's area within reach of each admissible point
+            score = np.full(len(cand.points), -np.inf)
+            idx = np.flatnonzero(allowed)
+            hidden = book.hidden(self._survey_support(), self._node_area)
+            if idx.size and hidden.any():
+                score[idx] = mass_within_reach(cand.points[idx], cand.points, hidden, self.reach)
+                if self.survey_travel is not None:   # the near hidden region first: less travel
+                    gap = np.hypot(*(cand.points[idx] - self.imaging.points[-1]).T)
+                    score[idx] *= np.exp(-gap / self.survey_travel)
+            return None if idx.size == 0 else cand.nodes[idx[np.argmax(score[idx])]].copy()
         if self.rule == "info":
             nxt, gain = self._info_point(allowed)
             if nxt is not None and gain < INFO_GAIN_MIN:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from matplotlib.patches import Circle
 from matplotlib.tri import Triangulation
 
 from arenas import Arena, Floor
@@ -13,7 +14,7 @@ from ..episode import Episode
 from ..fem.green import Field
 from ..imaging import ImagingMap
 
-__all__ = ["draw_arena", "imaging_steps_figure", "gradient_run_figure", "field_figure"]
+__all__ = ["draw_arena", "imaging_steps_figure", "gradient_run_figure", "field_figure", "sources_figure"]
 
 
 def draw_arena(ax, arena: Arena, *, obstacle_color: str = "0.25", wall_color: str = "k") -> None:
@@ -81,7 +82,7 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
     cols = min(ncols, len(steps))
     fig = Figure(figsize=(3.6 * cols, 3.5 * rows), layout="constrained")
     tri = _triangulation(imaging)
-    src = np.asarray(episode.summary["source"])
+    src = np.atleast_2d(np.asarray(episode.summary.get("sources") or episode.summary["source"], dtype=float))
     for i, k in enumerate(steps):
         ax = fig.add_subplot(rows, cols, i + 1)
         sub = imaging.first(k)
@@ -101,10 +102,13 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
         if nxt is not None:
             ax.plot(*nxt, "kx", ms=9, mew=2)
         est = sub.estimate()
-        ax.plot(*est, "D", color="magenta", mec="k", ms=7)
-        ax.plot(*src, "*", color="lime", mec="k", ms=11)
+        found = episode.trace[k - 1].get("estimates")          # a search for several sources
+        shown = np.atleast_2d(found) if found else est[None]
+        ax.plot(shown[:, 0], shown[:, 1], "D", color="magenta", mec="k", ms=7, ls="")
+        ax.plot(src[:, 0], src[:, 1], "*", color="lime", mec="k", ms=11, ls="")
         area = sub.area(eps)
-        ax.set_title(f"step {k}: area {area:.0f} cm², est. ({est[0]:.1f}, {est[1]:.1f})", fontsize=9)
+        what = f"{len(found)} found" if found else f"est. ({est[0]:.1f}, {est[1]:.1f})"
+        ax.set_title(f"step {k}: area {area:.0f} cm², {what}", fontsize=9)
         ax.set_xlabel("x (cm)", fontsize=8)
         ax.set_ylabel("y (cm)", fontsize=8)
     fig.colorbar(tpc, ax=fig.axes, shrink=0.8, label="imaging function $P_M$")
@@ -180,6 +184,53 @@ def gradient_run_figure(episode: Episode, field: Field | None, arena: Arena,
     if len(replans):
         handles.append(Line2D([], [], marker="o", ls="", mfc="none", mec="tab:blue", ms=4, label="re-plans"))
     ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.85)
+    return fig
+
+
+def sources_figure(episode: Episode, more: ImagingMap, arena: Arena) -> Figure:
+    """The end of a search for several sources: every estimate with its uncertainty, the
+    true sources, the path, and the map of one more source on the readings the estimates
+    leave unexplained.
+
+    Parameters
+    ----------
+    episode : Episode
+        The run; its summary gives ``estimates``, ``estimates_sd`` and ``sources``.
+    more : ImagingMap
+        The residual map of one more source (``SourceBook.active`` at the end).
+    arena : Arena
+        For the walls.
+    """
+    s = episode.summary
+    fig = Figure(figsize=(5.6, 4.6), layout="constrained")
+    ax = fig.add_subplot()
+    tpc = ax.tripcolor(_triangulation(more), more.values(), shading="gouraud", cmap="viridis", vmin=0, vmax=1,
+                       rasterized=True)
+    draw_arena(ax, arena)
+    path = _route(episode.trace)
+    ax.plot(path[:, 0], path[:, 1], "-", color="tab:blue", lw=1.0, alpha=0.8)
+    pts = np.array([r["targets"] for r in episode.trace if r.get("targets") is not None]).reshape(-1, 2)
+    ax.plot(pts[:, 0], pts[:, 1], "o", mfc="none", mec="red", ms=5, mew=1.2)
+    true = np.atleast_2d(np.asarray(s.get("sources") or s["source"], dtype=float))
+    ax.plot(true[:, 0], true[:, 1], "*", color="lime", mec="k", ms=13, ls="")
+    est = np.asarray(s.get("estimates") or [], dtype=float).reshape(-1, 2)
+    sd = s.get("estimates_sd") or [0.0] * len(est)
+    for j, (p, r) in enumerate(zip(est, sd)):
+        ax.plot(*p, "D", color="magenta", mec="k", ms=7)
+        ax.add_patch(Circle(p, 2.0 * r, fill=False, ec="magenta", lw=1.2))
+        ax.annotate(str(j + 1), p, xytext=(5, 5), textcoords="offset points", color="magenta", fontsize=9,
+                    fontweight="bold")
+    fig.colorbar(tpc, ax=ax, shrink=0.85, label="one more source: $P$ on the residual readings")
+    right = "K right" if s.get("n_sources_right") else "K wrong"
+    fig.suptitle(f"{len(est)} sources found of {len(true)} ({right}); {s['n_measurements']} readings", fontsize=10)
+    ax.set_xlabel("x (cm)")
+    ax.set_ylabel("y (cm)")
+    ax.set_aspect("equal")
+    handles = [Line2D([], [], marker="*", ls="", color="lime", mec="k", ms=11, label="true sources"),
+               Line2D([], [], marker="D", ls="", color="magenta", mec="k", ms=7, label="estimates (circle: 2 sd)"),
+               Line2D([], [], marker="o", ls="", mfc="none", mec="red", ms=5, label="readings"),
+               Line2D([], [], color="tab:blue", lw=1.0, label="path")]
+    fig.legend(handles=handles, loc="outside lower center", ncols=2, fontsize=8, facecolor="0.85")
     return fig
 
 

@@ -19,10 +19,12 @@ from shapely.geometry import Polygon
 from arenas import Arena, ArenaError
 
 from ..errors import SearchError
+from ..outcome import MAX_SOURCES
 from ..fem.green import Field, GreenSolver
 from .base import Reading, World
 
-__all__ = ["PoissonWorld", "Mismatch", "TRUTH_H", "TRUTH_ORDER", "truth_solver", "shifted_walls"]
+__all__ = ["PoissonWorld", "Mismatch", "TRUTH_H", "TRUTH_ORDER", "truth_solver", "shifted_walls",
+           "superposed_field", "MAX_SOURCES"]
 
 #: Mesh size of the truth (cm), whatever a strategy's ``h``: the truth has its own
 #: discretisation, so the data never come from the very model that inverts them (no
@@ -110,10 +112,17 @@ def shifted_walls(arena: Arena, shift: float) -> Arena:
         raise SearchError(f"wall_shift of {shift:g} cm makes arena {arena.name!r} invalid: {exc}") from None
 
 
+def superposed_field(solver: GreenSolver, sources: np.ndarray, strengths: np.ndarray) -> Field:
+    """``u = Σ_j c_j G(·, S_j)`` on `solver`: the signal of several point sources (the
+    equation is linear), each Green's function from the disk cache when there."""
+    dofs = sum(solver.field(s, c, cached=True).dofs for s, c in zip(sources, strengths))
+    return Field(solver, dofs, "u")
+
+
 @lru_cache(maxsize=4)
-def _floor(arena: Arena, source: tuple, strength: float, h: float, px_per_mm: float, gamma: float):
+def _floor(arena: Arena, sources: tuple, strengths: tuple, h: float, px_per_mm: float, gamma: float):
     from arenas import render_floor
-    field = truth_solver(arena, h).field(np.array(source), strength, cached=True)
+    field = superposed_field(truth_solver(arena, h), np.array(sources), np.array(strengths))
     floor = render_floor(arena, field, px_per_mm=px_per_mm)
     if gamma == 1.0:
         return floor
@@ -137,6 +146,16 @@ class PoissonWorld(World):
         How the truth departs from what the strategy is told.
     success_radius : float
         A converged estimate within this distance (cm) succeeds.
+    sources : array_like, shape (K, 2), optional
+        Several true sources (cm), replacing the arena's one; the signal is the
+        superposition of their fields.
+    strengths : array_like, shape (K,), optional
+        Their true strengths (default: each the arena's nominal strength), before the
+        mismatch's ``strength_factor``. The strategy is told the nominal strength only.
+    max_sources : int, optional
+        The task's public bound on the number of sources (default 1 with the arena's
+        source, MAX_SOURCES with `sources`): part of what a strategy is told, never
+        the number of sources itself.
     believed : Arena, optional
         The walls the strategy is told instead of the true ones (``map: unknown``: the
         boundary alone; ``map: {known: FILE}``: a partial map); None tells the true walls.
@@ -149,18 +168,30 @@ class PoissonWorld(World):
 
     def __init__(self, arena: Arena, *, noise: float = 12.0, h: float = TRUTH_H,
                  mismatch: Mismatch | None = None, success_radius: float = 5.0,
+                 sources=None, strengths=None, max_sources: int | None = None,
                  believed: Arena | None = None, lidar: dict | None = None):
-        if arena.source is None:
+        if arena.source is None and sources is None:
             raise SearchError(f"arena {arena.name!r} has no true source: give source: [x, y]")
         if not np.isfinite(noise) or noise < 0:
             raise SearchError(f"noise must be a non-negative number; got {noise!r}")
         self.arena = arena
         self.mismatch = mismatch or Mismatch()
         self.true_arena = shifted_walls(arena, self.mismatch.wall_shift)
-        if not self.true_arena.contains(arena.source[None])[0]:
-            raise SearchError("the source lies inside a shifted wall: reduce wall_shift")
-        self.source = np.asarray(arena.source, dtype=float)
-        self.strength = float(arena.strength) * self.mismatch.strength_factor
+        self.sources = np.atleast_2d(np.asarray(arena.source if sources is None else sources, dtype=float))
+        if not 1 <= len(self.sources) <= MAX_SOURCES:
+            raise SearchError(f"a poisson world has 1 to {MAX_SOURCES} sources; got {len(self.sources)}")
+        if not np.all(self.true_arena.contains(self.sources)):
+            raise SearchError("a source lies inside a shifted wall: reduce wall_shift")
+        nominal = float(arena.strength)
+        given = np.full(len(self.sources), nominal) if strengths is None else np.asarray(strengths, dtype=float)
+        if given.shape != (len(self.sources),) or not np.all(np.isfinite(given) & (given > 0)):
+            raise SearchError(f"strengths must be one positive number per source; got {strengths!r}")
+        #: true strengths (the nominal strength is the task's, ``arena.strength``)
+        self.strengths = given * self.mismatch.strength_factor
+        self.source = self.sources[0]
+        self.strength = float(self.strengths[0])
+        #: the task's public bound on the number of sources (1: the classic problem)
+        self.max_sources = int(max_sources if max_sources is not None else (1 if sources is None else MAX_SOURCES))
         self.noise = float(noise)
         self.true_noise = self.noise * self.mismatch.noise_factor
         self.h = float(h)
@@ -170,13 +201,18 @@ class PoissonWorld(World):
         self.lidar = None if lidar is None else dict(lidar)
 
     @property
+    def n_sources(self) -> int:
+        """Number of true sources."""
+        return len(self.sources)
+
+    @property
     def field(self) -> Field:
         """The true signal ``u`` (a field evaluable at any points, cm)."""
         if self._field is None:
             # the same signal in every process that asks: kept on disk, so that a warm
             # start neither assembles nor factorizes the truth's quadratic elements
             solver = truth_solver(self.true_arena.without_scenario(), self.h)
-            self._field = solver.field(self.source, self.strength, cached=True)
+            self._field = superposed_field(solver, self.sources, self.strengths)
         return self._field
 
     def read(self, position, *, time: float = 0.0, dwell: float = 0.0,
@@ -193,11 +229,19 @@ class PoissonWorld(World):
         """The testbed floor painted from the true field (the car's truth): the signal as
         printed (with the `paint_gamma` mismatch) and the grey mapping the calibration
         assumes (the nominal print). Cached per process."""
-        return _floor(self.true_arena.without_scenario(), tuple(self.source.tolist()), self.strength,
-                      self.h, float(px_per_mm), self.mismatch.paint_gamma)
+        return _floor(self.true_arena.without_scenario(), tuple(map(tuple, self.sources.tolist())),
+                      tuple(self.strengths.tolist()), self.h, float(px_per_mm), self.mismatch.paint_gamma)
+
+    def found(self, position) -> bool:
+        if self.found_radius is None:
+            return False
+        d = np.hypot(*(self.sources - np.asarray(position, dtype=float)[:2]).T)
+        return bool(d.min() <= self.found_radius)
 
     def nominal(self) -> dict:
         out = dict(arena=replace(self.arena, source=None), strength=float(self.arena.strength), noise=self.noise)
+        if self.max_sources > 1:
+            out["max_sources"] = self.max_sources
         if self.believed is not None:   # the walls are not all known: only what the map tells
             out.update(arena=self.believed, map="unknown")
         if self.lidar is not None:
@@ -210,4 +254,7 @@ class PoissonWorld(World):
             out["map"] = "unknown" if not self.believed.obstacles else "partial"
         if self.lidar is not None:
             out["lidar"] = dict(self.lidar)
+        if self.max_sources > 1 or self.n_sources > 1:
+            out.update(sources=self.sources.tolist(), strengths=self.strengths.tolist(),
+                       n_sources=self.n_sources, max_sources=self.max_sources)
         return out

@@ -1,0 +1,181 @@
+"""Several sources: worlds that superpose them, the judgement by optimal assignment, the
+Bayes factor of one more source, and a search that finds them all without being told K."""
+
+import json
+
+import numpy as np
+import pytest
+from scipy import integrate
+
+import arenas
+import reciprocity as r
+from reciprocity.env import SearchEnv, rollout
+from reciprocity.errors import SearchError
+from reciprocity.outcome import MAX_SOURCES, match_sources
+from reciprocity.scenarios import from_dict
+from reciprocity.strategies import STRATEGIES
+from reciprocity.strategies.agent import StrategyAgent
+
+TWO = dict(world="poisson", arena="paper", sources=[[70.2, 70.2], [60.0, 125.0]], strengths=[850.0, 700.0])
+
+
+def scenario(**over):
+    return from_dict({**TWO, **over}, name="two")
+
+
+# -- the judgement ---------------------------------------------------------------------
+def test_optimal_assignment_matches_each_true_source_once():
+    true = np.array([[0.0, 0.0], [10.0, 0.0]])
+    # the greedy choice for the first source (the estimate at 9) would leave the second 11 away
+    est = np.array([[9.0, 0.0], [21.0, 0.0]])
+    assert match_sources(true, est) == pytest.approx([9.0, 11.0])
+    assert match_sources(true, est[:1]) == [None, 1.0]           # one missed
+    assert match_sources(true, np.empty((0, 2))) == [None, None]
+    assert match_sources(true[:1], est) == [9.0]                  # an extra estimate stays unmatched
+
+
+# -- the world -------------------------------------------------------------------------
+def test_the_signal_of_several_sources_is_the_sum_of_their_fields():
+    world = scenario().build_world(0)
+    one = [r.worlds.poisson.truth_solver(world.true_arena.without_scenario(), world.h).field(s, c, cached=True)
+           for s, c in zip(world.sources, world.strengths)]
+    pts = np.array([[30.0, 60.0], [60.0, 120.0], [120.0, 70.0]])
+    assert np.allclose(world.field(pts), one[0](pts) + one[1](pts))
+    assert world.n_sources == 2 and world.strengths.tolist() == [850.0, 700.0]
+
+
+def test_the_task_tells_the_bound_on_the_number_of_sources_never_the_sources():
+    env = SearchEnv(scenario(max_sources=3))
+    _, info = env.reset(seed=0)
+    nominal = dict(info["task"].nominal)
+    assert nominal["max_sources"] == 3
+    assert not {"sources", "strengths", "n_sources", "source"} & set(nominal)
+    assert nominal["strength"] == 850.0                          # the nominal, not the true strengths
+    # the classic single-source task says nothing of several
+    _, info = SearchEnv("paper").reset(seed=0)
+    assert "max_sources" not in info["task"].nominal
+
+
+@pytest.mark.parametrize("over, message", [
+    (dict(sources=[[70.2, 70.2], [120.0, 120.0]]), "sources[1] (120, 120) cm is outside the free region"),
+    (dict(sources=[]), "sources must be a list of 1 to"),
+    (dict(sources=[[70.0, 70.0]] * (MAX_SOURCES + 1)), "sources must be a list of 1 to"),
+    (dict(sources=[[70.0, 70.0], [70.5, 70.0]]), "sources must be at least 1 cm apart"),
+    (dict(sources=[[70.0, 70.0], "a"]), "sources[1]"),
+    (dict(strengths=[850.0]), "strengths must give one number per source (2)"),
+    (dict(strengths=[850.0, -1.0]), "strengths[1]"),
+    (dict(max_sources=1), "max_sources (1) is less than the number of sources (2)"),
+    (dict(max_sources=9), "max_sources must be a whole number from 1 to"),
+    (dict(source=[30.0, 60.0]), "give either source (one source) or sources (several), not both"),
+])
+def test_bad_sources_are_refused_naming_the_key(over, message):
+    with pytest.raises(SearchError) as err:
+        scenario(**over)
+    assert message in str(err.value)
+
+
+def test_strengths_without_sources_are_refused():
+    with pytest.raises(SearchError, match="strengths needs sources"):
+        from_dict(dict(world="poisson", arena="paper", strengths=[850.0]), name="x")
+
+
+def test_one_source_given_replaces_several_and_several_replace_one():
+    one = scenario().with_world({"source": [30.0, 60.0]})
+    assert one.params["sources"] is None and one.params["source"] == [30.0, 60.0]
+    several = from_dict(dict(world="poisson", arena="paper"), name="p").with_world(
+        {"sources": [[30.0, 60.0], [70.2, 70.2]]})
+    assert several.params["sources"] == [[30.0, 60.0], [70.2, 70.2]]
+    assert several.build_world(0).max_sources == MAX_SOURCES
+
+
+# -- the Bayes factor of one more source -------------------------------------------------
+def test_log_evidence_ratio_is_the_integral_over_the_strength_prior():
+    solver = r.GreenSolver(arenas.load("empty"), h=4.0)
+    lo, hi, sigma = 300.0, 1200.0, 12.0 * np.sqrt(2.0)
+    im = r.ImagingMap(solver, sigma, strength=None, combine="product", strength_range=(lo, hi))
+    z = [(30.0, 30.0), (90.0, 40.0), (60.0, 100.0)]
+    readings = [40.0, 5.0, 120.0]
+    for p, v in zip(z, readings):
+        im.add(p, v)
+    b = im.log_evidence_ratio()
+    g = im._g
+    rr = np.array(readings)
+    for node in (10, len(im.nodes) // 2, len(im.nodes) - 7):
+        def integrand(c):
+            return np.exp(-(np.sum((c * g[node] - rr) ** 2) - rr @ rr) / sigma ** 2) / c
+        quad = integrate.quad(integrand, lo, hi, limit=200, points=[lo * 1.5, hi / 1.5])[0] / np.log(hi / lo)
+        assert b[node] == pytest.approx(np.log(quad), abs=0.03)
+
+
+def test_log_evidence_ratio_is_zero_where_no_reading_sees_and_excludes_where_readings_are_quiet():
+    solver = r.GreenSolver(arenas.load("paper"), h=3.0)
+    im = r.ImagingMap(solver, 12.0 * np.sqrt(2.0), strength=None, combine="product",
+                      strength_range=(425.0, 1700.0))
+    for p in [(66.0, 80.0), (75.0, 60.0)]:
+        im.add(p, 0.0)                                         # quiet: no source near
+    b = im.log_evidence_ratio()
+    unseen = 1700.0 * np.abs(im._g).max(axis=1) < 1e-3         # no strength of the prior shows there
+    loud = 425.0 * im._g.max(axis=1) > 60.0                    # any source there would have shown
+    assert unseen.sum() > 100 and np.all(np.abs(b[unseen]) < 1e-3)
+    assert loud.sum() > 50 and np.all(b[loud] < np.log(0.05))
+    # a reading of the true source's field: decisive evidence for a source beside it
+    u = solver.field((70.2, 70.2), 850.0)
+    im.add((70.0, 66.0), float(u([(70.0, 66.0)])[0]))
+    near = np.argmin(np.hypot(*(im.nodes - (70.2, 70.2)).T))
+    assert im.log_evidence_ratio()[near] > np.log(100.0)
+    with pytest.raises(r.ReciprocityError, match="strength_range"):
+        r.ImagingMap(solver, 12.0, strength=850.0, combine="product").log_evidence_ratio()
+
+
+def test_restrict_zeroes_the_map_outside_the_allowed_nodes():
+    solver = r.GreenSolver(arenas.load("empty"), h=4.0)
+    im = r.ImagingMap(solver, 12.0, strength=600.0, combine="product")
+    im.add((30.0, 30.0), 50.0)
+    allowed = im.nodes[:, 0] > 70.0
+    im.restrict(allowed)
+    assert np.all(im.values()[~allowed] == 0.0) and im.values()[allowed].max() == 1.0
+    assert im.estimate()[0] > 65.0
+    with pytest.raises(r.ReciprocityError, match="at least one True"):
+        im.restrict(np.zeros(len(im.nodes), dtype=bool))
+
+
+# -- the search ------------------------------------------------------------------------
+def test_the_search_finds_two_sources_without_being_told_how_many():
+    env = SearchEnv(scenario())
+    episode = rollout(env, StrategyAgent(STRATEGIES["reciprocity"]), 0)
+    s = episode.summary
+    assert s["n_sources_estimated"] == 2 and s["success"], s["stop_reason"]
+    assert max(s["errors"]) < 5.0 and s["error"] == max(s["errors"])
+    assert len(s["estimates"]) == 2 and len(s["estimates_sd"]) == 2
+    assert s["sources"] == TWO["sources"] and s["max_sources"] == MAX_SOURCES
+    assert "probability of one more" in s["stop_reason"]
+    json.dumps(s)
+
+
+def test_one_source_found_of_two_is_not_a_success():
+    env = SearchEnv(scenario())
+    episode = rollout(env, StrategyAgent(STRATEGIES["reciprocity"], {"max_sources": 1}), 0)
+    s = episode.summary
+    assert s["converged"] and s["n_sources_estimated"] == 1
+    assert s["errors"][1] is None and s["error"] is None and not s["success"]
+
+
+def test_the_classic_single_source_search_is_unchanged():
+    """A task with one source: no book, no extra keys, the readings of the single search."""
+    env = SearchEnv("paper")
+    episode = rollout(env, StrategyAgent(STRATEGIES["reciprocity"]), 3)
+    s = episode.summary
+    assert "estimates" not in s and "n_sources_estimated" not in s
+    assert s["params"]["max_sources"] == 1 and s["params"]["max_steps"] == 30
+
+
+@pytest.mark.parametrize("params, message", [
+    ({"max_sources": 0}, "max_sources must be a whole number from 1 to"),
+    ({"max_sources": 2.5}, "max_sources must be a whole number"),
+    ({"more_tol": 1.0}, "more_tol must be a probability in (0, 1)"),
+    ({"max_steps": 0}, "max_steps must be a whole number >= 1"),
+])
+def test_bad_search_parameters_are_refused(params, message):
+    with pytest.raises(SearchError) as err:
+        STRATEGIES["reciprocity"](**params)
+    assert message in str(err.value)
