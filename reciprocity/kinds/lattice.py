@@ -14,11 +14,11 @@ import numpy as np
 from scipy.sparse.csgraph import connected_components
 
 from ..errors import SearchError
-from ..outcome import MAX_SOURCES
 from ..scenarios import WorldKind, check_keys, register_world
 from ..spaces.lattice import LatticeSpace
-from ..validation import number, point, whole
+from ..validation import number, point
 from ..worlds.lattice import PERCOLATION_THRESHOLD, LatticeWorld, clusters, draw_links
+from .sources import source_list, source_strengths
 
 __all__ = ["LATTICE", "LATTICE_KEYS", "MIN_RADIUS", "MAX_RADIUS"]
 
@@ -69,47 +69,14 @@ def _pair(params, key, default) -> tuple:
 
 
 def _sources(space: LatticeSpace, params: dict) -> list | None:
-    """The ``sources`` key as a list of distinct transient nodes, or None; refuses
-    ``strengths`` without it and a ``source`` that is not its first node."""
-    sources = params.get("sources")
-    if sources is None:
-        if params.get("strengths") is not None:
-            raise SearchError(f"strengths {params['strengths']!r} needs sources: [[x, y], ...] (one release rate "
-                              "per source); a single source takes strength")
-        return None
-    if not isinstance(sources, (list, tuple)) or not 1 <= len(sources) <= MAX_SOURCES:
-        raise SearchError(f"sources must be a list of 1 to {MAX_SOURCES} lattice nodes [[x, y], ...]; "
-                          f"got {sources!r}")
-    nodes = [_node(space, q, f"sources[{i}]", transient=True) for i, q in enumerate(sources)]
-    for i, q in enumerate(nodes):
-        if q in nodes[:i]:
-            raise SearchError(f"sources[{i}] {sources[i]!r} repeats an earlier source; sources must be distinct "
-                              "nodes")
-    one = params.get("source")
-    if one is not None and _node(space, one, "source", transient=True) != nodes[0]:
-        raise SearchError(f"source {one!r} is not the first of sources {sources!r}; give either source "
-                          "(one source) or sources (several), not both")
-    return nodes
+    """The ``sources`` key as a list of distinct transient nodes, or None."""
+    return source_list(params, lambda q, key: _node(space, q, key, transient=True), what="lattice nodes")
 
 
 def _several(params: dict, sources: list | None, strength: float) -> dict:
     """``sources``, ``strengths`` (release rates A0) and ``max_sources``."""
-    # max_sources is kept as given (None: the world's default, 1 for one source and
-    # MAX_SOURCES for several), so that replacing one source by several keeps the default
-    given = params.get("max_sources")
-    m = None if given is None else whole(given, "max_sources", 1, MAX_SOURCES)
-    if sources is None:
-        return {"sources": None, "strengths": None, "max_sources": m}
-    strengths = params.get("strengths")
-    if strengths is None:
-        strengths = [strength] * len(sources)
-    elif not isinstance(strengths, (list, tuple)) or len(strengths) != len(sources):
-        raise SearchError(f"strengths must give one release rate A0 per source ({len(sources)}); got {strengths!r}")
-    strengths = [number(c, f"strengths[{i}]", 0.0, MAX_STRENGTH, lo_open=True) for i, c in enumerate(strengths)]
-    if m is not None and m < len(sources):
-        raise SearchError(f"max_sources ({m}) is less than the number of sources ({len(sources)}); "
-                          f"give max_sources from {len(sources)} to {MAX_SOURCES}")
-    return {"sources": sources, "strengths": strengths, "max_sources": m}
+    return source_strengths(params, sources, strength,
+                            lambda c, key: number(c, key, 0.0, MAX_STRENGTH, lo_open=True), each="release rate A0")
 
 
 def _kept_nodes(space: LatticeSpace, params: dict) -> list:

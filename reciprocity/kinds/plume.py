@@ -48,9 +48,9 @@ from scipy.special import k0
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
-from ..outcome import MAX_SOURCES
 from ..validation import MAX_AGENTS, MAX_CELLS, MAX_COORD, Bound, point, starts_in_box, whole
 from ..worlds.plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, SensorFault, plume_length
+from .sources import source_list, source_strengths
 
 __all__ = ["PLUME", "PLUME_KEYS", "hit_probabilities", "otto_max_hits", "otto_initial_hit_probabilities"]
 
@@ -178,57 +178,29 @@ def _check(params: dict) -> dict:
 
 
 def _sources(params: dict, bounds: tuple) -> list | None:
-    """The ``sources`` key as a list of distinct points in `bounds`, or None; refuses
-    ``strengths`` without it and a ``source`` that is not its first point."""
-    sources = params.get("sources")
-    if sources is None:
-        if params.get("strengths") is not None:
-            raise SearchError(f"plume strengths {params['strengths']!r} needs sources: [[x, y], ...] (one release "
-                              "rate per source); a single source takes rate")
-        return None
-    if not isinstance(sources, (list, tuple)) or not 1 <= len(sources) <= MAX_SOURCES:
-        raise SearchError(f"plume sources must be a list of 1 to {MAX_SOURCES} points [[x, y], ...]; "
-                          f"got {sources!r}")
+    """The ``sources`` key as a list of distinct points in `bounds`, or None."""
     (x0, x1), (y0, y1) = bounds
-    pts = [point(p, f"plume sources[{i}]") for i, p in enumerate(sources)]
-    for i, q in enumerate(pts):
+
+    def place(value, key: str) -> np.ndarray:
+        q = point(value, key)
         if not (x0 <= q[0] <= x1 and y0 <= q[1] <= y1):
-            raise SearchError(f"plume sources[{i}] {sources[i]!r} is outside the area "
-                              f"[{x0:g}, {x1:g}] x [{y0:g}, {y1:g}]")
-        if any(np.array_equal(q, o) for o in pts[:i]):
-            raise SearchError(f"plume sources[{i}] {sources[i]!r} repeats an earlier source; sources must be "
-                              "distinct")
-    one = params.get("source")
-    if one is not None and (not isinstance(one, (list, tuple)) or not np.array_equal(point(one, "plume source"),
-                                                                                    pts[0])):
-        raise SearchError(f"plume source {one!r} is not the first of sources {sources!r}; give either source "
-                          "(one source) or sources (several), not both")
-    return [q.tolist() for q in pts]
+            raise SearchError(f"{key} {value!r} is outside the area [{x0:g}, {x1:g}] x [{y0:g}, {y1:g}]")
+        return q
+
+    pts = source_list(params, place, prefix="plume ", single="rate")
+    return None if pts is None else [q.tolist() for q in pts]
 
 
 def _several(params: dict, sources: list | None, out: dict) -> dict:
     """``sources``, ``strengths`` (release rates, per unit time) and ``max_sources``,
     checked against the nominal rate and time step in `out`."""
-    # max_sources is kept as given (None: the world's default, 1 for one source and
-    # MAX_SOURCES for several), so that replacing one source by several keeps the default
-    given = params.get("max_sources")
-    m = None if given is None else whole(given, "plume max_sources", 1, MAX_SOURCES)
-    if sources is None:
-        return {"sources": None, "strengths": None, "max_sources": m}
-    strengths = params.get("strengths")
-    if strengths is None:
-        strengths = [out["rate"]] * len(sources)
-    elif not isinstance(strengths, (list, tuple)) or len(strengths) != len(sources):
-        raise SearchError(f"plume strengths must give one release rate per source ({len(sources)}); "
-                          f"got {strengths!r}")
-    strengths = [float(BOUNDS["rate"].check(c, f"plume strengths[{i}]")) for i, c in enumerate(strengths)]
-    if sum(strengths) * out["dt"] > MAX_HITS_PER_STEP:
+    checked = source_strengths(params, sources, out["rate"], lambda c, key: float(BOUNDS["rate"].check(c, key)),
+                               prefix="plume ", each="release rate")
+    strengths = checked["strengths"]
+    if strengths is not None and sum(strengths) * out["dt"] > MAX_HITS_PER_STEP:
         raise SearchError(f"plume strengths {strengths!r} × dt must sum to at most {MAX_HITS_PER_STEP:g} expected "
                           f"releases per step; got {sum(strengths) * out['dt']:g}")
-    if m is not None and m < len(sources):
-        raise SearchError(f"plume max_sources ({m}) is less than the number of sources ({len(sources)}); "
-                          f"give max_sources from {len(sources)} to {MAX_SOURCES}")
-    return {"sources": sources, "strengths": strengths, "max_sources": m}
+    return checked
 
 
 def _params(params: dict) -> PlumeParams:

@@ -9,9 +9,10 @@ from arenas import Arena, ArenaError
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
-from ..validation import number, point, whole
-from ..worlds.poisson import MAX_SOURCES, Mismatch, PoissonWorld, TRUTH_H, shifted_walls
+from ..validation import number, point
+from ..worlds.poisson import Mismatch, PoissonWorld, TRUTH_H, shifted_walls
 from .sensing import believed_arena, check_lidar, check_map
+from .sources import source_list, source_strengths
 
 __all__ = ["POISSON", "POISSON_KEYS"]
 
@@ -38,7 +39,7 @@ def _check(params: dict) -> dict:
             raise SearchError("a poisson scenario needs an arena: a built-in name, a file or a mapping")
         else:
             arena = arenas.load(a)
-        sources = _sources(params)
+        sources = source_list(params, point)
         source = params.get("source") if sources is None else sources[0]
         if source is not None:
             source = point(source, "source")
@@ -74,31 +75,13 @@ def _check(params: dict) -> dict:
     return out
 
 
-def _sources(params: dict) -> list | None:
-    """The ``sources`` key as a list of points, or None; refuses it beside a different ``source``."""
-    sources = params.get("sources")
-    if sources is None:
-        if params.get("strengths") is not None:
-            raise SearchError("strengths needs sources: [[x, y], ...] (one strength per source); "
-                              "a single source takes strength")
-        return None
-    if not isinstance(sources, (list, tuple)) or not 1 <= len(sources) <= MAX_SOURCES:
-        raise SearchError(f"sources must be a list of 1 to {MAX_SOURCES} points [[x, y], ...]; got {sources!r}")
-    pts = [point(p, f"sources[{i}]") for i, p in enumerate(sources)]
-    one = params.get("source")
-    if one is not None and not np.allclose(point(one, "source"), pts[0]):
-        raise SearchError("give either source (one source) or sources (several), not both")
-    return [p.tolist() for p in pts]
-
-
 def _several(params: dict, sources: list | None, arena: Arena) -> dict:
-    """``sources``, ``strengths`` and ``max_sources``, checked against `arena`."""
-    # max_sources is kept as given (None: the world's default, 1 for one source and
-    # MAX_SOURCES for several), so that replacing one source by several keeps the default
-    given = params.get("max_sources")
-    m = None if given is None else whole(given, "max_sources", 1, MAX_SOURCES)
+    """``sources``, ``strengths`` and ``max_sources``, each source in `arena`'s free region
+    and at least 1 cm from the others."""
+    out = source_strengths(params, sources, float(arena.strength),
+                           lambda c, key: number(c, key, 0.0, 1e9, lo_open=True), each="number")
     if sources is None:
-        return {"sources": None, "strengths": None, "max_sources": m}
+        return out
     pts = np.array(sources, dtype=float)
     inside = arena.contains(pts)
     if not inside.all():
@@ -108,15 +91,8 @@ def _several(params: dict, sources: list | None, arena: Arena) -> dict:
     gaps = np.hypot(*(pts[:, None] - pts[None]).transpose(2, 0, 1))[np.triu_indices(len(pts), 1)]
     if gaps.size and gaps.min() < 1.0:
         raise SearchError(f"two sources are {gaps.min():.3g} cm apart; sources must be at least 1 cm apart")
-    strengths = params.get("strengths")
-    if strengths is None:
-        strengths = [float(arena.strength)] * len(pts)
-    elif not isinstance(strengths, (list, tuple)) or len(strengths) != len(pts):
-        raise SearchError(f"strengths must give one number per source ({len(pts)}); got {strengths!r}")
-    strengths = [number(c, f"strengths[{i}]", 0.0, 1e9, lo_open=True) for i, c in enumerate(strengths)]
-    if m is not None and m < len(pts):
-        raise SearchError(f"max_sources ({m}) is less than the number of sources ({len(pts)})")
-    return {"sources": pts.tolist(), "strengths": strengths, "max_sources": m}
+    out["sources"] = pts.tolist()
+    return out
 
 
 def _check_start(params: dict, starts: np.ndarray) -> None:

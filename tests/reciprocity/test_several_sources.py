@@ -75,7 +75,7 @@ def test_bad_sources_are_refused_naming_the_key(over, message):
 
 
 def test_strengths_without_sources_are_refused():
-    with pytest.raises(SearchError, match="strengths needs sources"):
+    with pytest.raises(SearchError, match="needs sources"):
         from_dict(dict(world="poisson", arena="paper", strengths=[850.0]), name="x")
 
 
