@@ -242,10 +242,12 @@ class ImagingMap(Belief):
     def on(self, solver: GreenSolver, *, model_error: float | None = None) -> "ImagingMap":
         """The same readings and parameters imaged on another `solver` (a re-meshed
         domain: the walls a strategy believes changed), each adjoint solved anew; with
-        another relative `model_error` when given."""
-        other = ImagingMap(solver, self.sigma, strength=self.strength, combine=self.combine,
-                           strength_range=self.strength_range, offset_sd=self.offset_sd,
-                           model_error=self.model_error if model_error is None else model_error)
+        another relative `model_error` when given. A subclass stays itself, with its own
+        attributes."""
+        other = copy.copy(self)
+        ImagingMap.__init__(other, solver, self.sigma, strength=self.strength, combine=self.combine,
+                            strength_range=self.strength_range, offset_sd=self.offset_sd,
+                            model_error=self.model_error if model_error is None else model_error)
         for z, reading, sat in zip(self.points, self.readings, self.saturated):
             other.add(z, float(reading), saturated=bool(sat))
         return other

@@ -22,6 +22,7 @@ built from the platform's range scans and answers the strategy's three questions
 
 from __future__ import annotations
 
+import copy
 from typing import Callable
 
 import numpy as np
@@ -30,9 +31,11 @@ from arenas import Arena
 
 from ..beliefs.occupancy import OccupancyGrid
 from ..errors import SearchError
+from ..imaging import ImagingMap
 from ..observations import Observation, scans_of
 
-__all__ = ["MapKeeper", "UNSEEN_MODEL_ERROR", "MAPPED_MODEL_ERROR", "FRONTIER_SHARE", "FRONTIER_DISCOUNT"]
+__all__ = ["MapKeeper", "ShortfallImaging", "UNSEEN_MODEL_ERROR", "MAPPED_MODEL_ERROR", "UNSEEN_SHORTFALL",
+           "FRONTIER_SHARE", "FRONTIER_DISCOUNT"]
 
 #: Relative model error added per unit share of the arena not yet seen (the whole arena
 #: unseen: 0.3, a reading may be 30 % off the model's prediction).
@@ -40,6 +43,10 @@ UNSEEN_MODEL_ERROR = 0.3
 #: Relative model error of a map seen everywhere: believed walls sit up to about a cell
 #: (1 cm) off the true ones, and their far sides are unseen.
 MAPPED_MODEL_ERROR = 0.05
+#: Relative shortfall of a reading below the optimistic model's prediction allowed per unit
+#: share of the arena not yet seen (:class:`ShortfallImaging`); 0: the symmetric widening
+#: alone.
+UNSEEN_SHORTFALL = 0.0
 #: Explore (go to the frontier) when at least this share of the belief lies in unseen space.
 FRONTIER_SHARE = 0.5
 #: Path length (cm) over which a frontier point's score falls by a factor e.
@@ -109,6 +116,15 @@ class MapKeeper:
         unseen = 1.0 - self.grid.seen_fraction
         return float(max(base, MAPPED_MODEL_ERROR + UNSEEN_MODEL_ERROR * unseen))
 
+    def shortfall(self) -> float:
+        """How far below the optimistic prediction a reading may fall (relative):
+        ``UNSEEN_SHORTFALL x unseen share``."""
+        return float(UNSEEN_SHORTFALL * (1.0 - self.grid.seen_fraction))
+
+    def imaging(self, imaging: ImagingMap) -> "ShortfallImaging":
+        """`imaging` as a :class:`ShortfallImaging` with the shortfall of the map now."""
+        return ShortfallImaging.of(imaging, self.shortfall())
+
     def admissible(self, points: np.ndarray) -> np.ndarray:
         """Mask of `points` (n, 2) in seen-free space (where the observer may measure)."""
         return self.grid.free_at(points)
@@ -156,6 +172,52 @@ class MapKeeper:
         path = _path_lengths(space, here)[cand]
         score = mass_near(pts[cand]) * np.exp(-path / FRONTIER_DISCOUNT)
         return pts[cand[int(np.argmax(score))]].copy()
+
+
+class ShortfallImaging(ImagingMap):
+    """An imaging map on an optimistic believed map: readings may fall short of the model.
+
+    Walls absorb (the field vanishes on them), so a wall the map does not hold yet can
+    only lower the signal: with the true free region inside the believed one, the true
+    Green's function is at most the believed one (domain monotonicity of the Dirichlet
+    Green's function). A reading *below* the prediction ``v_k(x)`` is then scored with
+    the variance ``sigma^2/2 + ((model_error + shortfall) v_k)^2``, one *above* it with
+    ``sigma^2/2 + (model_error v_k)^2``: a split normal (its normalisation ``2 /
+    (sqrt(2 pi) (s_below + s_above))`` counts, as it differs from node to node). A source
+    behind walls not yet seen is not ruled out by readings the open model over-predicts.
+    With ``shortfall = 0`` (or a shared offset) it is :class:`~reciprocity.imaging.ImagingMap`.
+
+    Attributes
+    ----------
+    shortfall : float
+        Relative shortfall allowed below the prediction (a fraction of ``v_k``).
+    """
+
+    shortfall: float = 0.0
+
+    @classmethod
+    def of(cls, imaging: ImagingMap, shortfall: float) -> "ShortfallImaging":
+        """`imaging` (its readings and parameters) with `shortfall`: a copy sharing its
+        adjoint solves (use it in place of `imaging`)."""
+        if not np.isfinite(shortfall) or shortfall < 0:
+            raise SearchError(f"shortfall must be a fraction >= 0; got {shortfall!r}")
+        out = copy.copy(imaging)
+        out.__class__ = cls
+        out.shortfall = float(shortfall)
+        out._clear()
+        return out
+
+    def _correlated_misfit(self, r: np.ndarray) -> np.ndarray:
+        if self.shortfall <= 0 or self.offset_sd > 0:
+            return super()._correlated_misfit(r)
+        s2 = self.sigma ** 2 / 2.0
+        v = self.model()
+        above = s2 + (self.model_error * v) ** 2
+        below = s2 + ((self.model_error + self.shortfall) * v) ** 2
+        e = r * self.sigma                                           # v_k - I_k, signal units
+        d = np.where(e > 0, below, above)
+        norm = np.sum(np.log((np.sqrt(below) + np.sqrt(above)) / (2.0 * np.sqrt(s2))), axis=1)
+        return 0.5 * np.sum(e * e / d, axis=1) + norm
 
 
 def _path_lengths(space, here) -> np.ndarray:

@@ -405,6 +405,8 @@ class ReciprocityStrategy(Strategy):
             model_error = self.mapping.model_error(model_error)
         self.imaging = ImagingMap(self.solver, self.sigma_used, strength=c, combine=self.combine,
                                   strength_range=prior, offset_sd=offset, model_error=model_error)
+        if self.mapping is not None:
+            self.imaging = self.mapping.imaging(self.imaging)
         self.space = self._space(geometry)
         self.rng = ctx.rng
         self._reachable = self.space.reachable_from(pose[:2], self.clearance)
@@ -478,7 +480,7 @@ class ReciprocityStrategy(Strategy):
         self.solver = cached_solver(geometry, self.h)
         error = self.mapping.model_error(self._model_error) if self.imaging.combine == "product" \
             and self.imaging.strength_range is None else self.imaging.model_error
-        self.imaging = self.imaging.on(self.solver, model_error=error)
+        self.imaging = self.mapping.imaging(self.imaging.on(self.solver, model_error=error))
         self.space = self._space(geometry)
         self._node_area = self.space.cell_areas
         self._reachable = self.space.admissible(self.clearance)

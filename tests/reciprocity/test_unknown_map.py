@@ -237,3 +237,27 @@ def test_imaging_on_the_same_solver_gives_the_same_map():
         im.add(z, float(u([z])[0]))
     np.testing.assert_allclose(im.on(solver).values(), im.values())
     assert im.on(solver, model_error=0.3).model_error == 0.3
+
+
+def test_a_shortfall_forgives_readings_below_the_open_model_and_only_those():
+    """Walls not yet seen can only lower the signal: with a shortfall, a reading below the
+    prediction costs less, one above it the same; without one, the map is unchanged."""
+    import reciprocity
+    from reciprocity.strategies.mapping import ShortfallImaging
+    solver = reciprocity.GreenSolver(arenas.load("empty"), h=6.0)
+    u = solver.field((90.0, 60.0), strength=600.0)
+    zs = [(30.0, 30.0), (60.0, 100.0), (110.0, 30.0)]
+    im = reciprocity.ImagingMap(solver, sigma=12.0, strength=600.0, combine="product", model_error=0.05)
+    for z in zs:
+        im.add(z, 0.5 * float(u([z])[0]))                # every reading half the open model's
+    flat = ShortfallImaging.of(im, 0.0)
+    np.testing.assert_allclose(flat.values(), im.values())
+    src = solver.locator.locate(np.array([[90.0, 60.0]]))
+    node = int(np.argmin(np.sum((solver.nodes - [90.0, 60.0]) ** 2, axis=1)))
+    r = im._residuals()
+    assert np.all(r[node] > 0) and src[0] >= 0                   # the model over-predicts there
+    short = ShortfallImaging.of(im, 0.5)
+    assert short._correlated_misfit(r)[node] < im._correlated_misfit(r)[node]
+    above = -r                                                   # the same misfits, readings above
+    np.testing.assert_array_less(im._correlated_misfit(above)[node] - 1e-9, short._correlated_misfit(above)[node])
+    assert isinstance(short.on(solver), ShortfallImaging) and short.on(solver).shortfall == 0.5
