@@ -29,8 +29,9 @@ def _scans(record: dict) -> list[Observation]:
 def map_replay(episode: Episode, strategy, k: int) -> tuple[MapKeeper, ImagingMap]:
     """The believed map and the imaging map of `strategy` after step `k` of `episode`,
     rebuilt from the trace's scans and readings as the strategy built them (the same
-    occupancy updates, the same believed arena, the solver on it, the readings imaged
-    with the model error of that map).
+    occupancy updates, the same believed arena, the solver on it), the readings imaged
+    with the model error and shortfall of the map after step `k` (the strategy updates
+    them only when the believed walls change, so they may differ slightly).
 
     Parameters
     ----------
@@ -52,6 +53,7 @@ def map_replay(episode: Episode, strategy, k: int) -> tuple[MapKeeper, ImagingMa
     error = keeper.model_error(getattr(strategy, "_model_error", 0.0)) if product else im.model_error
     out = ImagingMap(cached_solver(keeper.arena, strategy.h), im.sigma, strength=im.strength, combine=im.combine,
                      strength_range=im.strength_range, offset_sd=im.offset_sd, model_error=error)
+    out = keeper.imaging(out)
     for z, r in zip(points, readings):
         out.add(z, float(r))
     return keeper, out
