@@ -74,6 +74,8 @@ def _progress(desc: str):
 
 def _summary_line(s: dict) -> str:
     est = "-" if s["estimate"] is None else f"({s['estimate'][0]:.2f}, {s['estimate'][1]:.2f})"
+    if s.get("estimates") is not None and len(s["estimates"]) != 1:     # several sources: how many
+        est = f"{len(s['estimates'])} sources of {len(s.get('sources') or [s['source']])}"
     err = "-" if s["error"] is None else f"{s['error']:.2f}"
     sim = f"{s['sim_time_s']:.0f}" if "sim_time_s" in s else "-"
     return (f"{s['strategy']:<12} {s['n_measurements']:>5} {s['n_samples']:>7} "

@@ -279,12 +279,14 @@ def _read(src, label: str) -> dict:
 
 
 def _arena_scenario(data: dict, src, label: str) -> dict:
-    """A plain arena file (boundary, obstacles, source, strength, start) as a poisson scenario."""
+    """A plain arena file (boundary, obstacles, source, strength, start) as a poisson scenario;
+    its ``sources``, ``strengths`` and ``max_sources`` (several sources) are the world's."""
     arena = dict(data)
     name = str(arena.get("name") or Path(str(src)).stem)
     arena["name"] = name
+    several = {key: arena.pop(key) for key in ("sources", "strengths", "max_sources") if key in arena}
     return {"world": "poisson", "arena": arena, "name": name,
-            "description": str(arena.pop("description", f"arena file {label}"))}
+            "description": str(arena.pop("description", f"arena file {label}")), **several}
 
 
 def from_dict(data: dict, name: str = "scenario") -> Scenario:

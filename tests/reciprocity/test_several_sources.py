@@ -179,3 +179,36 @@ def test_bad_search_parameters_are_refused(params, message):
     with pytest.raises(SearchError) as err:
         STRATEGIES["reciprocity"](**params)
     assert message in str(err.value)
+
+
+# -- files, campaigns and the command line ---------------------------------------------
+def test_a_plain_arena_file_takes_several_sources_and_the_run_draws_them(tmp_path):
+    from reciprocity.cli import main
+    arena = tmp_path / "box2.yaml"
+    arena.write_text("name: box2\nboundary: [[0, 0], [100, 0], [100, 80], [0, 80]]\n"
+                     "obstacles:\n  - [[40, 20], [60, 20], [60, 40], [40, 40]]\n"
+                     "sources: [[20, 20], [80, 60]]\nstrengths: [600, 600]\nstrength: 600\nstart: [50, 70, 0]\n")
+    out = tmp_path / "out"
+    assert main(["run", "--arena", str(arena), "--strategy", "reciprocity", "--out", str(out),
+                 "--json", str(tmp_path / "s.json"), "--quiet"]) == 0
+    s = json.loads((tmp_path / "s.json").read_text())
+    assert s["n_sources_estimated"] == 2 and s["success"] and len(s["errors"]) == 2
+    assert (out / "reciprocity_sources.png").stat().st_size > 10_000
+    assert (out / "reciprocity_steps.png").exists()
+
+
+def test_a_campaign_draws_as_many_sources_as_the_scenario_has_well_apart():
+    from reciprocity.campaign.spec import SOURCE_CLEARANCE, SOURCE_SEPARATION
+    from reciprocity.campaign.worker import world_draw
+    sc = from_dict({**TWO, "sources": [[70.2, 70.2], [60.0, 125.0], [120.0, 10.0]], "strengths": None}, name="k3")
+    arena = sc.arena
+    for seed in range(20):
+        draw = world_draw(sc, seed)
+        pts = np.array(draw["sources"])
+        assert pts.shape == (3, 2) and "source" not in draw
+        assert np.all(arena.contains(pts, clearance=SOURCE_CLEARANCE))
+        gaps = np.hypot(*(pts[:, None] - pts[None]).transpose(2, 0, 1))[np.triu_indices(3, 1)]
+        assert gaps.min() >= SOURCE_SEPARATION
+    assert world_draw(sc, 3) == world_draw(sc, 3)                  # the seed decides
+    world = sc.with_world(world_draw(sc, 3)).build_world(3)
+    assert world.n_sources == 3 and world.max_sources == MAX_SOURCES
