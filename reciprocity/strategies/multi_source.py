@@ -124,6 +124,21 @@ class SourceBook:
             self.located = not self.full and bool(self._evidence() >= LOG_DETECT)
         return self._active
 
+    def rebase(self, raw: ImagingMap, wall_distance: np.ndarray) -> ImagingMap:
+        """The same readings on another mesh (the believed walls changed, ``map:
+        unknown``): `raw` holds them imaged there, `wall_distance` is its nodes' distance
+        to the believed walls. The found sources stay; the active map is rebuilt."""
+        self.raw = raw
+        self.inner = np.asarray(wall_distance) >= WALL_MARGIN
+        if self.confirming is not None:
+            self._active = self.confirm_map(self.confirming)
+        elif self.found:
+            self._active = self.residual_map(exclude_near=self.found)
+            self.located = not self.full and bool(self._evidence() >= LOG_DETECT)
+        else:
+            self._active = raw
+        return self._active
+
     def confirm_map(self, j: int) -> ImagingMap:
         """The map of found source `j` on the readings less the others' fields, within
         CONFIRM_RADIUS of its estimate."""
@@ -202,18 +217,22 @@ class SourceBook:
         ok = self.inner if im.allowed is None else im.allowed & self.inner
         return float(b[ok].max()) if ok.any() else -np.inf
 
-    def hidden(self, near: np.ndarray, areas: np.ndarray) -> np.ndarray:
+    def hidden(self, near: np.ndarray, areas: np.ndarray, unseen: np.ndarray | None = None) -> np.ndarray:
         """Per node, the posterior mass of "one more source here" (up to the prior odds):
         nodal area times ``exp B``, over the nodes within reach (`near`), away from the
-        walls and from the sources found; 0 elsewhere."""
+        walls and from the sources found; 0 elsewhere. Where `unseen` (an unknown map's
+        nodes not yet seen) no reading excludes a source (``B`` at least 0): a wall there
+        that the model does not know could hide it."""
         im = self._active
         support = near & self.inner
         if im.allowed is not None:
             support &= im.allowed
         b = np.minimum(im.log_evidence_ratio(), 50.0)
+        if unseen is not None:
+            b = np.where(unseen, np.maximum(b, 0.0), b)
         return np.where(support, areas * np.exp(b), 0.0)
 
-    def more_probability(self, near: np.ndarray, areas: np.ndarray) -> float:
+    def more_probability(self, near: np.ndarray, areas: np.ndarray, unseen: np.ndarray | None = None) -> float:
         """The posterior probability of one more source, from even prior odds spread
         uniformly over the support of :meth:`hidden` (0 when that support is empty)."""
         im = self._active
@@ -223,7 +242,7 @@ class SourceBook:
         prior = float(np.sum(areas[support]))
         if prior <= 0:
             return 0.0
-        odds = float(np.sum(self.hidden(near, areas))) / prior
+        odds = float(np.sum(self.hidden(near, areas, unseen))) / prior
         return odds / (1.0 + odds)
 
     # ------------------------------------------------------------------ accepting sources

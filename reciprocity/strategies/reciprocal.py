@@ -478,13 +478,20 @@ class ReciprocityStrategy(Strategy):
         believed free region is connected by construction)."""
         geometry = self.mapping.arena
         self.solver = cached_solver(geometry, self.h)
-        error = self.mapping.model_error(self._model_error) if self.imaging.combine == "product" \
-            and self.imaging.strength_range is None else self.imaging.model_error
-        self.imaging = self.mapping.imaging(self.imaging.on(self.solver, model_error=error))
-        self.space = self._space(geometry)
+        base = self.imaging if self.book is None else self.book.raw
+        error = self.mapping.model_error(self._model_error) if base.combine == "product" \
+            and base.strength_range is None else base.model_error
+        if self.book is None:
+            self.imaging = self.mapping.imaging(self.imaging.on(self.solver, model_error=error))
+            self.space = self._space(geometry)
+        else:       # several sources: every reading on the new mesh, the found sources kept
+            raw = self.mapping.imaging(base.on(self.solver, model_error=error))
+            self.space = self._space(geometry)
+            self.imaging = self.book.rebase(raw, self.space.wall_distance)
         self._node_area = self.space.cell_areas
         self._reachable = self.space.admissible(self.clearance)
         self._far, self._far_count, self._near_key = np.ones(len(self.space.points), dtype=bool), 0, None
+        self._support_key = None
         self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
             if self.rule == "info" else None
 
@@ -535,7 +542,8 @@ class ReciprocityStrategy(Strategy):
             self.status = Status(book.found[0].copy(), self.status.region_area,
                                  extra=dict(self.status.extra, estimates=[f.tolist() for f in book.found]))
         if book.surveying:
-            more = 0.0 if book.full else book.more_probability(self._survey_support(), self._node_area)
+            more = 0.0 if book.full else book.more_probability(self._survey_support(), self._node_area,
+                                                                self._unseen())
             self.status.extra["p_more"] = more
             if more < self.more_tol and book.next_unconfirmed(self._converged) is None:
                 why = "as many as the task allows" if book.full else f"probability of one more {more:.3f} < more_tol"
@@ -629,6 +637,12 @@ class ReciprocityStrategy(Strategy):
                                                   f"{1.0 - within:.3f} (belief mass within {self.reach:g} cm "
                                                   f"of a reachable point: {within:.3f})")
 
+    def _unseen(self) -> np.ndarray | None:
+        """With an unknown map, the nodes its range sensor has not seen yet; else None."""
+        if getattr(self, "mapping", None) is None:
+            return None
+        return ~self.mapping.grid.seen_at(self.space.points)
+
     def _survey_support(self) -> np.ndarray:
         """Where one more source is sought: the nodes within SURVEY_REACH of a reachable
         point along the free region (a source farther off, or in a room closed off by
@@ -693,7 +707,7 @@ class ReciprocityStrategy(Strategy):
             # the hidden region's area within reach of each admissible point
             score = np.full(len(cand.points), -np.inf)
             idx = np.flatnonzero(allowed)
-            hidden = book.hidden(self._survey_support(), self._node_area)
+            hidden = book.hidden(self._survey_support(), self._node_area, self._unseen())
             if idx.size and hidden.any():
                 score[idx] = mass_within_reach(cand.points[idx], cand.points, hidden, self.reach)
                 if self.survey_travel is not None:   # the near hidden region first: less travel

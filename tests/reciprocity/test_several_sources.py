@@ -212,3 +212,21 @@ def test_a_campaign_draws_as_many_sources_as_the_scenario_has_well_apart():
     assert world_draw(sc, 3) == world_draw(sc, 3)                  # the seed decides
     world = sc.with_world(world_draw(sc, 3)).build_world(3)
     assert world.n_sources == 3 and world.max_sources == MAX_SOURCES
+
+
+def test_an_unknown_map_and_two_sources_run_end_to_end():
+    """Both extensions at once: the strategy meshes what its range sensor saw, and looks for
+    the sources it is not told of; the walls and the sources stay on the truth's side."""
+    sc = from_dict(dict(world="poisson", arena={"name": "box2", "boundary": [[0, 0], [100, 0], [100, 80], [0, 80]],
+                                                "obstacles": [[[40, 20], [60, 20], [60, 40], [40, 40]]],
+                                                "strength": 600, "start": [50, 70, 0]},
+                        sources=[[20, 20], [80, 60]], map="unknown", lidar={"beams": 32, "range": 40, "noise": 0.5}),
+                   name="both")
+    env = SearchEnv(sc)
+    _, info = env.reset(seed=0)
+    assert not info["task"].nominal["arena"].obstacles                # only the boundary is told
+    agent = StrategyAgent(STRATEGIES["reciprocity"])
+    s = rollout(env, agent, 0).summary
+    assert len(agent.strategy.solver.arena.obstacles) >= 1            # the wall it saw, meshed
+    assert s["n_sources_estimated"] == 2 and s["n_sources_right"], s["stop_reason"]
+    assert max(s["errors"]) < 5.0
