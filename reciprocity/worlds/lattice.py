@@ -20,9 +20,8 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import splu
 
 from ..errors import SearchError
-from ..outcome import MAX_SOURCES
 from ..spaces.lattice import LatticeSpace
-from .base import Reading, World
+from .base import Reading, World, source_set
 
 __all__ = ["LatticeWorld", "draw_links", "green_row", "PERCOLATION_THRESHOLD", "MAX_REDRAWS"]
 
@@ -171,22 +170,12 @@ class LatticeWorld(World):
                  map_known: bool = False, localisation_known: bool = False, sources=None, strengths=None,
                  max_sources: int | None = None):
         self.space = space
-        self.sources = np.asarray(source if sources is None else sources, dtype=float).reshape(-1, 2)
-        if not 1 <= len(self.sources) <= MAX_SOURCES:
-            raise SearchError(f"a lattice world has 1 to {MAX_SOURCES} sources; got {len(self.sources)}")
-        if sources is not None and source is not None \
-                and not np.array_equal(np.asarray(source, dtype=float).reshape(2), self.sources[0]):
-            raise SearchError(f"source {source!r} differs from the first of sources {sources!r}; "
-                              "give either source (one source) or sources (several)")
+        self.sources, given, self.max_sources = source_set("lattice", source, sources, strengths, strength,
+                                                           max_sources, each="release rate A0")
         self.source = self.sources[0]
         self.strength = float(strength)
-        given = np.full(len(self.sources), self.strength) if strengths is None else np.asarray(strengths, dtype=float)
-        if given.shape != (len(self.sources),) or not np.all(np.isfinite(given) & (given > 0)):
-            raise SearchError(f"strengths must be one positive release rate A0 per source; got {strengths!r}")
         #: true release rates A0 of the sources (the nominal one is `strength`)
         self.strengths = given
-        #: the task's public bound on the number of sources (1: the classic problem)
-        self.max_sources = int(max_sources if max_sources is not None else (1 if sources is None else MAX_SOURCES))
         self.primary, self.secondary = tuple(map(float, primary)), tuple(map(float, secondary))
         self.p, self.slip, self.draws = p, float(slip), int(draws)
         self.map_known = bool(map_known)
@@ -201,18 +190,8 @@ class LatticeWorld(World):
                           axis=0)
         self._second = space.second_link_of
 
-    @property
-    def n_sources(self) -> int:
-        """Number of true sources."""
-        return len(self.sources)
-
     def contains(self, points) -> np.ndarray:
         return self.space.contains(points)
-
-    def found(self, position) -> bool:
-        """An observer at `position` is within ``found_radius`` of any source (on its node)."""
-        d = np.hypot(*(self.sources - np.asarray(position, dtype=float)[:2]).T)
-        return bool(d.min() <= self.found_radius)
 
     def mean(self, position) -> float:
         """Mean count λ at `position` (eq. (4)): ``A0 · F_ij``."""
@@ -254,9 +233,7 @@ class LatticeWorld(World):
                    localisation="known" if self.localisation_known else "unknown")
         if self.map_known:
             out["links"] = self.space.present.copy()      # the map, never the source
-        if self.max_sources > 1:
-            out["max_sources"] = self.max_sources
-        return out
+        return self._nominal_sources(out)
 
     def describe_start(self, start) -> dict:
         """``shortest_path``: links from the node of `start` to the nearest source over the
@@ -272,7 +249,4 @@ class LatticeWorld(World):
         out = dict(strength=self.strength, missing_links=int((~self.space.present).sum()),
                    lattice_draws=self.draws, map_known=self.map_known,
                    localisation_known=self.localisation_known)
-        if self.max_sources > 1 or self.n_sources > 1:
-            out.update(sources=self.sources.tolist(), strengths=self.strengths.tolist(),
-                       n_sources=self.n_sources, max_sources=self.max_sources)
-        return out
+        return self._described_sources(out)

@@ -42,9 +42,8 @@ import numpy as np
 
 from ..errors import SearchError
 from ..models.plume import FORMS, PlumeParams, plume_length, plume_rate
-from ..outcome import MAX_SOURCES
 from ..validation import number
-from .base import Reading, World
+from .base import Reading, World, source_set
 
 __all__ = ["FORMS", "PlumeParams", "PlumeMismatch", "SensorFault", "PlumeWorld", "plume_length", "plume_rate"]
 
@@ -176,36 +175,21 @@ class PlumeWorld(World):
                  found_radius: float = 1.0, grid: float | None = None, nominal_extra: dict | None = None,
                  sensors=(), sources=None, strengths=None, max_sources: int | None = None):
         self.bounds = tuple(tuple(float(v) for v in b) for b in bounds)
-        self.sources = np.asarray(source if sources is None else sources, dtype=float).reshape(-1, 2)
-        if not 1 <= len(self.sources) <= MAX_SOURCES:
-            raise SearchError(f"a plume world has 1 to {MAX_SOURCES} sources; got {len(self.sources)}")
-        if sources is not None and source is not None \
-                and not np.array_equal(np.asarray(source, dtype=float).reshape(2), self.sources[0]):
-            raise SearchError(f"plume source {source!r} differs from the first of sources {sources!r}; "
-                              "give either source (one source) or sources (several)")
+        self.sources, given, self.max_sources = source_set("plume", source, sources, strengths, params.rate,
+                                                           max_sources, each="release rate")
         self.source = self.sources[0]
         self.params = params
         self.mismatch = mismatch or PlumeMismatch()
         self.truth = params.scaled(self.mismatch)
-        given = np.full(len(self.sources), params.rate) if strengths is None else np.asarray(strengths, dtype=float)
-        if given.shape != (len(self.sources),) or not np.all(np.isfinite(given) & (given > 0)):
-            raise SearchError(f"plume strengths must be one positive release rate per source; got {strengths!r}")
         # each source's rate as a multiple of the nominal one (1 exactly when not given),
         # applied to the true model, which carries the mismatch's rate_factor
         self._weights = given / params.rate
         #: true release rates (per unit time; the nominal rate is the task's, ``params.rate``)
         self.strengths = self._weights * self.truth.rate
-        #: the task's public bound on the number of sources (1: the classic problem)
-        self.max_sources = int(max_sources if max_sources is not None else (1 if sources is None else MAX_SOURCES))
         self.found_radius = float(found_radius)
         self.grid = grid
         self._extra = dict(nominal_extra or {})
         self.sensors = tuple(sensors)
-
-    @property
-    def n_sources(self) -> int:
-        """Number of true sources."""
-        return len(self.sources)
 
     def rate(self, at) -> np.ndarray:
         """True mean hit rate at `at` (m, 2), shape (m,), hits per unit time: the sum of
@@ -223,24 +207,14 @@ class PlumeWorld(World):
         (x0, x1), (y0, y1) = self.bounds
         return (p[:, 0] >= x0) & (p[:, 0] <= x1) & (p[:, 1] >= y0) & (p[:, 1] <= y1)
 
-    def found(self, position) -> bool:
-        """An observer at `position` is within ``found_radius`` of any source."""
-        d = np.hypot(*(self.sources - np.asarray(position, dtype=float)[:2]).T)
-        return bool(d.min() <= self.found_radius)
-
     def nominal(self) -> dict:
         out = dict(bounds=self.bounds, plume=self.params, found_radius=self.found_radius,
                    grid=self.grid, **self._extra)
-        if self.max_sources > 1:
-            out["max_sources"] = self.max_sources
-        return out
+        return self._nominal_sources(out)
 
     def describe(self) -> dict:
         out = dict(plume=self.params.as_dict(), mismatch=self.mismatch.as_dict(),
                    found_radius=self.found_radius, initial_hit=self._extra.get("initial_hit"))
         if any(not f.healthy for f in self.sensors):      # the env refuses faults beyond its observers
             out["sensors"] = [f.as_dict() for f in self.sensors]
-        if self.max_sources > 1 or self.n_sources > 1:
-            out.update(sources=self.sources.tolist(), strengths=self.strengths.tolist(),
-                       n_sources=self.n_sources, max_sources=self.max_sources)
-        return out
+        return self._described_sources(out)

@@ -21,7 +21,7 @@ from arenas import Arena, ArenaError
 from ..errors import SearchError
 from ..outcome import MAX_SOURCES
 from ..fem.green import Field, GreenSolver
-from .base import Reading, World
+from .base import Reading, World, source_set
 
 __all__ = ["PoissonWorld", "Mismatch", "TRUTH_H", "TRUTH_ORDER", "truth_solver", "shifted_walls",
            "superposed_field", "MAX_SOURCES"]
@@ -177,21 +177,14 @@ class PoissonWorld(World):
         self.arena = arena
         self.mismatch = mismatch or Mismatch()
         self.true_arena = shifted_walls(arena, self.mismatch.wall_shift)
-        self.sources = np.atleast_2d(np.asarray(arena.source if sources is None else sources, dtype=float))
-        if not 1 <= len(self.sources) <= MAX_SOURCES:
-            raise SearchError(f"a poisson world has 1 to {MAX_SOURCES} sources; got {len(self.sources)}")
+        self.sources, given, self.max_sources = source_set("poisson", arena.source, sources, strengths,
+                                                           float(arena.strength), max_sources)
         if not np.all(self.true_arena.contains(self.sources)):
             raise SearchError("a source lies inside a shifted wall: reduce wall_shift")
-        nominal = float(arena.strength)
-        given = np.full(len(self.sources), nominal) if strengths is None else np.asarray(strengths, dtype=float)
-        if given.shape != (len(self.sources),) or not np.all(np.isfinite(given) & (given > 0)):
-            raise SearchError(f"strengths must be one positive number per source; got {strengths!r}")
         #: true strengths (the nominal strength is the task's, ``arena.strength``)
         self.strengths = given * self.mismatch.strength_factor
         self.source = self.sources[0]
         self.strength = float(self.strengths[0])
-        #: the task's public bound on the number of sources (1: the classic problem)
-        self.max_sources = int(max_sources if max_sources is not None else (1 if sources is None else MAX_SOURCES))
         self.noise = float(noise)
         self.true_noise = self.noise * self.mismatch.noise_factor
         self.h = float(h)
@@ -199,11 +192,6 @@ class PoissonWorld(World):
         self._field: Field | None = None
         self.believed = believed
         self.lidar = None if lidar is None else dict(lidar)
-
-    @property
-    def n_sources(self) -> int:
-        """Number of true sources."""
-        return len(self.sources)
 
     @property
     def field(self) -> Field:
@@ -232,16 +220,9 @@ class PoissonWorld(World):
         return _floor(self.true_arena.without_scenario(), tuple(map(tuple, self.sources.tolist())),
                       tuple(self.strengths.tolist()), self.h, float(px_per_mm), self.mismatch.paint_gamma)
 
-    def found(self, position) -> bool:
-        if self.found_radius is None:
-            return False
-        d = np.hypot(*(self.sources - np.asarray(position, dtype=float)[:2]).T)
-        return bool(d.min() <= self.found_radius)
-
     def nominal(self) -> dict:
-        out = dict(arena=replace(self.arena, source=None), strength=float(self.arena.strength), noise=self.noise)
-        if self.max_sources > 1:
-            out["max_sources"] = self.max_sources
+        out = self._nominal_sources(dict(arena=replace(self.arena, source=None),
+                                         strength=float(self.arena.strength), noise=self.noise))
         if self.believed is not None:   # the walls are not all known: only what the map tells
             out.update(arena=self.believed, map="unknown")
         if self.lidar is not None:
@@ -254,7 +235,4 @@ class PoissonWorld(World):
             out["map"] = "unknown" if not self.believed.obstacles else "partial"
         if self.lidar is not None:
             out["lidar"] = dict(self.lidar)
-        if self.max_sources > 1 or self.n_sources > 1:
-            out.update(sources=self.sources.tolist(), strengths=self.strengths.tolist(),
-                       n_sources=self.n_sources, max_sources=self.max_sources)
-        return out
+        return self._described_sources(out)
