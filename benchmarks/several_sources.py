@@ -14,9 +14,11 @@ path. The classic single-source scenarios (the task says one source) are the bas
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from pathlib import Path
 
+import numpy as np
 import yaml
 
 from reciprocity.campaign import parse_spec, run_campaign
@@ -28,38 +30,50 @@ HERE = Path(__file__).parent
 #: Per scenario: K right, success, errors (every matched source), readings, path, wall time.
 TABLE_SQL = """
 WITH r AS (SELECT *, coalesce(json_array_length(sources), 1) AS k,
-                  coalesce(n_sources_right, true) AS k_right FROM runs),
-     e AS (SELECT scenario, unnest(coalesce(errors, [error])) AS err FROM r)
-SELECT r.scenario, any_value(k) AS k, count(*) AS runs,
+                  coalesce(n_sources_right, true) AS k_right FROM runs)
+SELECT scenario, any_value(k) AS k, count(*) AS runs,
        avg(k_right::INT) AS k_rate, wilson(sum(k_right::INT), count(*), -1) AS k_lo,
        wilson(sum(k_right::INT), count(*), 1) AS k_hi,
        avg(success::INT) AS s_rate, wilson(sum(success::INT), count(*), -1) AS s_lo,
        wilson(sum(success::INT), count(*), 1) AS s_hi,
-       (SELECT median(err) FROM e WHERE e.scenario = r.scenario) AS err_med,
-       (SELECT quantile_cont(err, 0.9) FROM e WHERE e.scenario = r.scenario) AS err_p90,
-       (SELECT avg((err IS NULL)::INT) FROM e WHERE e.scenario = r.scenario) AS missed,
        median(n_measurements) AS readings_med, avg(n_measurements) AS readings_mean,
-       median(path_length) AS path_med, median(wall_time_s) AS wall_med
-FROM r GROUP BY r.scenario ORDER BY any_value(arena), k, r.scenario
+       median(path_length) AS path_med, median(wall_time_s) AS wall_med,
+       count(*) FILTER (WHERE source_reachable) AS reach_runs,
+       sum(success::INT) FILTER (WHERE source_reachable) AS reach_wins, sum(collisions) AS contacts
+FROM r GROUP BY scenario ORDER BY any_value(arena), k, scenario
 """
 
+#: Per run: the errors of its true sources (a list; a JSON text where every entry was null).
+ERRORS_SQL = "SELECT scenario, CAST(errors AS VARCHAR) AS errors, error FROM runs"
 
 def table(directory: Path) -> str:
     """The Markdown table of a finished (or partial) campaign in `directory`."""
     con = open_report_db(directory)
-    rows = con.execute(TABLE_SQL).fetchall()
+    columns = {c[0] for c in con.execute("DESCRIBE runs").fetchall()}
+    sql = TABLE_SQL if "collisions" in columns else TABLE_SQL.replace("sum(collisions)", "NULL")  # the car's
+    rows = con.execute(sql).fetchall()
     names = [d[0] for d in con.description]
+    errors: dict[str, list] = {}
+    for scenario, listed, error in con.execute(ERRORS_SQL).fetchall():
+        values = [error] if listed is None else json.loads(listed.replace("NULL", "null"))
+        errors.setdefault(scenario, []).extend(values)
     out = ["| scenario | K | runs | K right [95 % CI] | success [95 % CI] | error med / p90 (cm) | "
-           "sources missed | readings med (mean) | path med (cm) | wall s med |",
-           "|---|---:|---:|---|---|---|---:|---|---:|---:|"]
+           "sources missed | readings med (mean) | path med (cm) | wall s med | success, every source reachable |",
+           "|---|---:|---:|---|---|---|---:|---|---:|---:|---|"]
     for row in rows:
         r = dict(zip(names, row))
+        contacts = "" if r["contacts"] is None else f", {int(r['contacts'])} contacts"
+        e = errors.get(r["scenario"], [])
+        found = np.array([v for v in e if v is not None], dtype=float)
+        r.update(err_med=np.median(found) if found.size else np.nan,
+                 err_p90=np.quantile(found, 0.9) if found.size else np.nan,
+                 missed=(len(e) - found.size) / len(e) if e else None)
         pct = lambda x: "–" if x is None else f"{100 * x:.0f} %"   # noqa: E731
         out.append(f"| {r['scenario']} | {r['k']} | {r['runs']} | {pct(r['k_rate'])} [{pct(r['k_lo'])}, "
                    f"{pct(r['k_hi'])}] | {pct(r['s_rate'])} [{pct(r['s_lo'])}, {pct(r['s_hi'])}] | "
                    f"{r['err_med']:.2f} / {r['err_p90']:.2f} | {pct(r['missed'])} | "
                    f"{r['readings_med']:.0f} ({r['readings_mean']:.1f}) | {r['path_med']:.0f} | "
-                   f"{r['wall_med']:.1f} |")
+                   f"{r['wall_med']:.1f} | {r['reach_wins'] or 0}/{r['reach_runs']}{contacts} |")
     return "\n".join(out) + "\n"
 
 
