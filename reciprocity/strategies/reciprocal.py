@@ -113,10 +113,6 @@ PATH_SLACK = 2.0
 #: Default ``max_steps``: readings of a search for one source, and for several.
 MAX_STEPS = 30
 MAX_STEPS_SEVERAL = 60
-#: Several sources: one more is sought within this distance (cm, along the free region)
-#: of the points the observer can reach: about the distance at which a source of the
-#: prior's weakest strength still stands out of the noise in the open.
-SURVEY_REACH = 30.0
 #: Default ``more_tol``: a search for several sources stops once the posterior
 #: probability of one more source is below it (see :mod:`.multi_source`).
 MORE_TOL = 0.05
@@ -272,6 +268,15 @@ class ReciprocityStrategy(Strategy):
         mass within reach by ``exp(-distance / survey_travel)`` from the last reading
         (cm): fewer cm driven for a few more readings (``benchmarks/several_sources.md``).
         None (default): no discount.
+    survey_reach : "reach" or float
+        Several sources: one more is sought where the search for one source would call it
+        within reach (default ``"reach"``: `reach` in a straight line from a point the
+        observer can reach, PATH_SLACK times it along the free region), or within this
+        distance (cm, along the free region) of the points it can reach. A wider survey
+        finds sources the platform cannot reach but can sense, at the cost of readings
+        that cannot exclude what hides behind walls it cannot pass: on the car
+        (``benchmarks/several_sources.md``) 30 cm left two of five searches at their step
+        cap with both sources found.
 
     Examples
     --------
@@ -290,7 +295,8 @@ class ReciprocityStrategy(Strategy):
                  tail_tol: float | None = None, max_steps: int | None = None,
                  clearance: float = 3.0, strength="arena", strength_range="decade",
                  h: float = 1.0, solver: GreenSolver | None = None, max_sources: int | None = None,
-                 more_tol: float = MORE_TOL, survey_travel: float | None = None):
+                 more_tol: float = MORE_TOL, survey_travel: float | None = None,
+                 survey_reach: float | str = "reach"):
         super().__init__()
         if preset is not None and preset not in PRESETS:
             raise SearchError(f"preset must be one of {tuple(PRESETS)} or None; got {preset!r}")
@@ -352,6 +358,10 @@ class ReciprocityStrategy(Strategy):
                                           or not 0 < survey_travel < float("inf")):
             raise SearchError(f"survey_travel must be a positive length in cm, or None; got {survey_travel!r}")
         self.survey_travel = None if survey_travel is None else float(survey_travel)
+        if survey_reach != "reach" and (isinstance(survey_reach, (bool, str)) or not isinstance(survey_reach, (int, float))
+                                        or not 0 < survey_reach < float("inf")):
+            raise SearchError(f"survey_reach must be a positive length in cm or 'reach'; got {survey_reach!r}")
+        self.survey_reach = survey_reach if survey_reach == "reach" else float(survey_reach)
         self.strength, self.h, self.solver = strength, float(h), solver
         self.strength_range = strength_range
 
@@ -364,7 +374,7 @@ class ReciprocityStrategy(Strategy):
                     strength_range=self.strength_range if isinstance(self.strength_range, str)
                     else list(self.strength_range),
                     max_sources=getattr(self, "sources_bound", self.max_sources), more_tol=self.more_tol,
-                    survey_travel=self.survey_travel,
+                    survey_travel=self.survey_travel, survey_reach=self.survey_reach,
                     h=self.h if self.solver is None else self.solver.h)
 
     def reading_sigma(self, nominal: dict) -> float:
@@ -644,12 +654,13 @@ class ReciprocityStrategy(Strategy):
         return ~self.mapping.grid.seen_at(self.space.points)
 
     def _survey_support(self) -> np.ndarray:
-        """Where one more source is sought: the nodes within SURVEY_REACH of a reachable
-        point along the free region (a source farther off, or in a room closed off by
-        walls, no reading the observer can take would show)."""
+        """Where one more source is sought (see `survey_reach`)."""
+        if self.survey_reach == "reach":
+            return self._near_reachable()
         key = self._reachable.tobytes()
         if getattr(self, "_support_key", None) != key:
-            self._support, self._support_key = self.space.within_path(self._reachable, SURVEY_REACH), key
+            self._support = self.space.within_path(self._reachable, float(self.survey_reach))
+            self._support_key = key
         return self._support
 
     def _near_reachable(self) -> np.ndarray:

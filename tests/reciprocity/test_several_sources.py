@@ -174,6 +174,8 @@ def test_the_classic_single_source_search_is_unchanged():
     ({"max_sources": 2.5}, "max_sources must be a whole number"),
     ({"more_tol": 1.0}, "more_tol must be a probability in (0, 1)"),
     ({"max_steps": 0}, "max_steps must be a whole number >= 1"),
+    ({"survey_reach": -1.0}, "survey_reach must be a positive length in cm or 'reach'"),
+    ({"survey_travel": 0.0}, "survey_travel must be a positive length in cm, or None"),
 ])
 def test_bad_search_parameters_are_refused(params, message):
     with pytest.raises(SearchError) as err:
