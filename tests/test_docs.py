@@ -29,8 +29,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Markdown files whose blocks run (the benchmark reports only record results): the README
-#: and every page of docs/, each in its own empty folder.
-DOCS = ("README.md", *sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").glob("*.md")))
+#: and every page of docs/ and its folders (docs/tutorials/), each in its own empty folder.
+DOCS = ("README.md", *sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").rglob("*.md")))
 #: Command prefixes not run, and why.
 SKIPPED = {
     "python3 -m venv": "the environment exists: .ci/run creates it from scratch the same way",
