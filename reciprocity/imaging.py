@@ -432,24 +432,17 @@ class ImagingMap(Belief):
 
         A node no reading sees scores 0 (the readings cannot tell); a node where a source of
         any strength in the prior would have raised the readings scores below 0; a node
-        that explains readings the null cannot scores above 0. Needs `strength_range`;
-        saturated readings are left out (they say only that a source is near).
+        that explains readings the null cannot scores above 0. Needs `strength_range`. A
+        saturated reading is scored as the map scores it (a censored reading: a penalty
+        only where the prediction falls short of it), under the null too.
         """
         if self.strength_range is None:
             raise ReciprocityError("log_evidence_ratio needs strength_range (the prior of the strength)")
         self._require_data()
         lo, hi = self.strength_range
-        free = ~self.saturated
-        if self.saturated.any():
-            other = copy.copy(self)
-            other._clear()
-            other.points, other.readings = self.points[free], self.readings[free]
-            other.saturated = self.saturated[free]
-            other._columns = _Columns(len(self.nodes))
-            other._columns.append(self._g[:, free])
-            return other.log_evidence_ratio()
         lo_g = max(lo, hi * 1e-6)
-        null = float(self.readings @ self.readings) / self.sigma ** 2
+        free, short = self.readings[~self.saturated], np.maximum(self.readings[self.saturated], 0.0)
+        null = float(free @ free + short @ short) / self.sigma ** 2
         return null - self._marginal_misfit() - np.log(np.log(hi / lo_g))
 
     # ------------------------------------------------------------------ belief protocol

@@ -193,9 +193,11 @@ class SourceBook:
         noise = raw.sigma / np.sqrt(2.0)
         w = noise / np.sqrt(noise ** 2 + (RESIDUAL_ERROR * pred) ** 2)
         g = raw._g
-        for k in np.flatnonzero(~raw.saturated):
-            # whitened: (c g_k - r_k)^2 / var_k = (c w_k g_k - w_k r_k)^2 / noise^2
-            im.add(raw.points[k], w[k] * (raw.readings[k] - pred[k]), green=w[k] * g[:, k])
+        for k in range(raw.n):
+            # whitened: (c g_k - r_k)^2 / var_k = (c w_k g_k - w_k r_k)^2 / noise^2; a
+            # saturated reading stays censored (the residual is at least this)
+            im.add(raw.points[k], w[k] * (raw.readings[k] - pred[k]), green=w[k] * g[:, k],
+                   saturated=bool(raw.saturated[k]))
         if not im.n:
             return raw
         nodes = raw.nodes

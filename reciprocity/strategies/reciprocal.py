@@ -722,7 +722,7 @@ class ReciprocityStrategy(Strategy):
             if idx.size and hidden.any():
                 score[idx] = mass_within_reach(cand.points[idx], cand.points, hidden, self.reach)
                 if self.survey_travel is not None:   # the near hidden region first: less travel
-                    gap = np.hypot(*(cand.points[idx] - self.imaging.points[-1]).T)
+                    gap = np.hypot(*(cand.points[idx] - self._read_points()[-1]).T)
                     score[idx] *= np.exp(-gap / self.survey_travel)
             return None if idx.size == 0 else cand.nodes[idx[np.argmax(score[idx])]].copy()
         if self.rule == "info":
@@ -749,10 +749,17 @@ class ReciprocityStrategy(Strategy):
     def _separated(self) -> np.ndarray:
         """Mask of the nodes at least `d` from every point read, brought up to date with
         the points read since the last call only (not all of them at every step)."""
-        if self._far_count < self.imaging.n:
-            self._far &= self.space.separated(self.imaging.points[self._far_count:], self.d)
-            self._far_count = self.imaging.n
+        read = self._read_points()
+        if self._far_count < len(read):
+            self._far &= self.space.separated(read[self._far_count:], self.d)
+            self._far_count = len(read)
         return self._far
+
+    def _read_points(self) -> np.ndarray:
+        """Every point read so far, cm (the active map of a search for several sources may
+        leave some out)."""
+        book = getattr(self, "book", None)
+        return self.imaging.points if book is None else book.raw.points
 
     def _info_point(self, allowed: np.ndarray) -> tuple[np.ndarray | None, float]:
         """The ``"info"`` rule: the admissible lattice point of least expected entropy and

@@ -232,3 +232,27 @@ def test_an_unknown_map_and_two_sources_run_end_to_end():
     assert len(agent.strategy.solver.arena.obstacles) >= 1            # the wall it saw, meshed
     assert s["n_sources_estimated"] == 2 and s["n_sources_right"], s["stop_reason"]
     assert max(s["errors"]) < 5.0
+
+
+def test_a_saturated_reading_is_evidence_of_a_source_and_is_kept_by_the_residual_maps():
+    """A reading at the sensor's ceiling says "a source is near": the Bayes factor counts
+    it (censored, under the null too), and the maps of further sources keep it, so a
+    search never asks for the same point again because its reading was dropped."""
+    solver = r.GreenSolver(arenas.load("paper"), h=3.0)
+    im = r.ImagingMap(solver, 12.0 * np.sqrt(2.0), strength=None, combine="product",
+                      strength_range=(425.0, 1700.0))
+    im.add((66.0, 80.0), 0.0)
+    im.add((70.0, 66.0), 300.0, saturated=True)
+    b = im.log_evidence_ratio()
+    unseen = 1700.0 * np.abs(im._g).max(axis=1) < 1e-3
+    near = np.hypot(*(im.nodes - (70.0, 66.0)).T) < 3.0
+    assert np.all(np.abs(b[unseen]) < 1e-3) and b[near].max() > np.log(100.0)
+
+    from reciprocity.observations import Observation
+    from reciprocity.strategies.multi_source import SourceBook
+    raw = r.ImagingMap(solver, 12.0 * np.sqrt(2.0), strength=850.0, combine="product")
+    book = SourceBook(raw, 850.0, 4, np.full(len(raw.nodes), 10.0))
+    book.add(Observation((70.0, 66.0), 400.0))
+    book.accept(np.array([70.0, 66.0]), 1.0)
+    active = book.add(Observation((120.0, 20.0), 374.6, saturated=True))
+    assert active.n == 2 and active.saturated.tolist() == [False, True]
