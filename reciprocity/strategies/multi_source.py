@@ -117,11 +117,17 @@ class SourceBook:
     def add(self, obs) -> ImagingMap:
         """Add a reading (an Observation) and return the active map brought up to date."""
         self.raw.update(obs)
+        return self._refresh()
+
+    def _refresh(self) -> ImagingMap:
+        """Rebuild the active map from the readings and the sources found."""
         if self.confirming is not None:
             self._active = self.confirm_map(self.confirming)
         elif self.found:
             self._active = self.residual_map(exclude_near=self.found)
             self.located = not self.full and bool(self._evidence() >= LOG_DETECT)
+        else:
+            self._active = self.raw
         return self._active
 
     def rebase(self, raw: ImagingMap, wall_distance: np.ndarray) -> ImagingMap:
@@ -130,14 +136,7 @@ class SourceBook:
         to the believed walls. The found sources stay; the active map is rebuilt."""
         self.raw = raw
         self.inner = np.asarray(wall_distance) >= WALL_MARGIN
-        if self.confirming is not None:
-            self._active = self.confirm_map(self.confirming)
-        elif self.found:
-            self._active = self.residual_map(exclude_near=self.found)
-            self.located = not self.full and bool(self._evidence() >= LOG_DETECT)
-        else:
-            self._active = raw
-        return self._active
+        return self._refresh()
 
     def confirm_map(self, j: int) -> ImagingMap:
         """The map of found source `j` on the readings less the others' fields, within
@@ -256,8 +255,7 @@ class SourceBook:
             self.spread[self.confirming] = float(spread)
             self.confirming = None
             self._fit_strengths()
-            self._active = self.residual_map(exclude_near=self.found)
-            self.located = not self.full and bool(self._evidence() >= LOG_DETECT)
+            self._refresh()
             return
         self.found.append(np.asarray(estimate, dtype=float).copy())
         self.spread.append(float(spread))
@@ -270,8 +268,7 @@ class SourceBook:
                 self.found[j] = im.estimate()
                 self.spread[j] = spread_of(im)
             self._fit_strengths()
-        self._active = self.residual_map(exclude_near=self.found)
-        self.located = not self.full and bool(self._evidence() >= LOG_DETECT)
+        self._refresh()
 
     def _fit_strengths(self) -> None:
         """Non-negative least squares of the readings on the found sources' fields (the
