@@ -96,6 +96,7 @@ class SourceBook:
         self.confirming: int | None = None   # the found source being located again
         self.confirmed: set[int] = set()
         self._active = raw
+        self._prior = raw         # the residual map under the strength prior (the Bayes factor's)
 
     # ------------------------------------------------------------------ the maps
     @property
@@ -121,11 +122,14 @@ class SourceBook:
 
     def _refresh(self) -> ImagingMap:
         """Rebuild the active map from the readings and the sources found."""
+        if self.found:
+            self._prior = self.residual_map(exclude_near=self.found)
+            self.located = not self.full and bool(self._evidence() >= LOG_DETECT)
         if self.confirming is not None:
             self._active = self.confirm_map(self.confirming)
         elif self.found:
-            self._active = self.residual_map(exclude_near=self.found)
-            self.located = not self.full and bool(self._evidence() >= LOG_DETECT)
+            # evidence of one more: located with the first source's own model
+            self._active = self.residual_map(exclude_near=self.found, own=True) if self.located else self._prior
         else:
             self._active = self.raw
         return self._active
@@ -142,7 +146,7 @@ class SourceBook:
         """The map of found source `j` on the readings less the others' fields, within
         CONFIRM_RADIUS of its estimate."""
         others = [s for i, s in enumerate(self.found) if i != j]
-        return self.residual_map(skip=j, exclude_near=others, within=(self.found[j], CONFIRM_RADIUS))
+        return self.residual_map(skip=j, exclude_near=others, within=(self.found[j], CONFIRM_RADIUS), own=True)
 
     def next_unconfirmed(self, converged) -> int | None:
         """The first found source whose :meth:`confirm_map` has not converged
@@ -172,7 +176,7 @@ class SourceBook:
             return np.zeros(self.raw.n)
         return self.couplings([self.found[j] for j in keep]) @ self.strengths[keep]
 
-    def residual_map(self, *, skip: int | None = None, exclude_near=(), within=None) -> ImagingMap:
+    def residual_map(self, *, skip: int | None = None, exclude_near=(), within=None, own: bool = False) -> ImagingMap:
         """A map of one further source on the readings less the found sources' fields.
 
         Parameters
@@ -183,11 +187,22 @@ class SourceBook:
             No source within MIN_SEPARATION of these (cm).
         within : (point, radius), optional
             The source lies within `radius` cm of `point`.
+        own : bool
+            Image with the first source's own model (the raw map's strength, known or
+            not, and its calibrated errors) instead of the prior EXTRA_STRENGTH (which the
+            Bayes factor needs): locating and confirming a source is then as accurate as
+            locating the first.
         """
         raw = self.raw
         lo, hi = EXTRA_STRENGTH
-        im = ImagingMap(raw.solver, raw.sigma, strength=None, combine="product",
-                        strength_range=(lo * self.nominal, hi * self.nominal))
+        if own:
+            plain = raw.strength_range is None
+            im = ImagingMap(raw.solver, raw.sigma, strength=raw.strength, combine="product",
+                            strength_range=raw.strength_range, offset_sd=raw.offset_sd if plain else 0.0,
+                            model_error=raw.model_error if plain else 0.0)
+        else:
+            im = ImagingMap(raw.solver, raw.sigma, strength=None, combine="product",
+                            strength_range=(lo * self.nominal, hi * self.nominal))
         pred = self.predicted(skip)
         noise = raw.sigma / np.sqrt(2.0)
         w = noise / np.sqrt(noise ** 2 + (RESIDUAL_ERROR * pred) ** 2)
@@ -211,7 +226,7 @@ class SourceBook:
 
     def _evidence(self) -> float:
         """The largest log Bayes factor of a further source over the allowed nodes."""
-        im = self._active
+        im = self._prior
         if im is self.raw:
             return np.inf
         b = im.log_evidence_ratio()
@@ -224,7 +239,7 @@ class SourceBook:
         walls and from the sources found; 0 elsewhere. Where `unseen` (an unknown map's
         nodes not yet seen) no reading excludes a source (``B`` at least 0): a wall there
         that the model does not know could hide it."""
-        im = self._active
+        im = self._prior
         support = near & self.inner
         if im.allowed is not None:
             support &= im.allowed
@@ -236,7 +251,7 @@ class SourceBook:
     def more_probability(self, near: np.ndarray, areas: np.ndarray, unseen: np.ndarray | None = None) -> float:
         """The posterior probability of one more source, from even prior odds spread
         uniformly over the support of :meth:`hidden` (0 when that support is empty)."""
-        im = self._active
+        im = self._prior
         support = near & self.inner
         if im.allowed is not None:
             support &= im.allowed
@@ -264,7 +279,7 @@ class SourceBook:
         if len(self.found) > 1:
             for j in range(len(self.found)):
                 im = self.residual_map(skip=j, exclude_near=[s for i, s in enumerate(self.found) if i != j],
-                                       within=(self.found[j], REFINE_RADIUS))
+                                       within=(self.found[j], REFINE_RADIUS), own=True)
                 self.found[j] = im.estimate()
                 self.spread[j] = spread_of(im)
             self._fit_strengths()
