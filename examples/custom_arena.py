@@ -1,6 +1,6 @@
 """Draw an arena as a picture, load it, and search with an unknown source strength.
 
-    python examples/custom_arena.py [OUT_DIR]
+    python examples/custom_arena.py [--out out/examples] [--seed 0]
 
 With the strength unknown the imaging map fits ``c`` at every point, which leaves room
 for false modes. The expected-information rule (``rule="info"``) separates them: over
@@ -8,7 +8,7 @@ seeds 0-5 every search ends within 4.4 cm, in 6-12 measurements; with the defaul
 ``axis`` rule seeds 0 and 5 use all 30 measurements and end 46-47 cm off.
 """
 
-import sys
+import argparse
 from pathlib import Path
 
 import cv2
@@ -50,4 +50,8 @@ def main(out_dir="out/examples", seed: int = 0) -> float:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "out/examples")
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default="out/examples", help="output folder (created)")
+    ap.add_argument("--seed", type=int, default=0)
+    a = ap.parse_args()
+    main(a.out, seed=a.seed)

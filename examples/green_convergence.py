@@ -1,9 +1,9 @@
 """Observed convergence of the FEM Green's function on a disk, against the closed form.
 
-    python examples/green_convergence.py [OUT_DIR]
+    python examples/green_convergence.py [--out out/examples]
 """
 
-import sys
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -43,4 +43,6 @@ def main(out_dir="out/examples") -> dict:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "out/examples")
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default="out/examples", help="output folder (created)")
+    main(ap.parse_args().out)

@@ -1,9 +1,9 @@
 """Imaging-function figure (the paper's Fig. 4) for a reciprocity search on `paper`.
 
-    python examples/imaging_figure.py [OUT_DIR]
+    python examples/imaging_figure.py [--out out/examples] [--seed 3]
 """
 
-import sys
+import argparse
 from pathlib import Path
 
 import arenas
@@ -28,4 +28,8 @@ def main(out_dir="out/examples", seed: int = 3) -> float:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "out/examples")
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default="out/examples", help="output folder (created)")
+    ap.add_argument("--seed", type=int, default=3)
+    a = ap.parse_args()
+    main(a.out, seed=a.seed)

@@ -7,13 +7,13 @@ with the optimal paths from the arena's start pose and a few random poses,
 and prints how well each path length agrees with φ(start) and how close
 each path comes to a wall (by the arena's own geometry).
 
-Run: ``python examples/planner_paths.py [OUT_DIR] [--fine]`` (``--fine``:
+Run: ``python examples/planner_paths.py [--out out/examples] [--fine]`` (``--fine``:
 1 cm and 72 headings).
 """
 
 from __future__ import annotations
 
-import sys
+import argparse
 from pathlib import Path
 
 import matplotlib
@@ -87,6 +87,8 @@ def main(out_dir: str | Path = "out/examples", *, h: float = 1.5, ntheta: int = 
 
 
 if __name__ == "__main__":
-    args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    fine = dict(h=1.0, ntheta=72) if "--fine" in sys.argv else {}
-    main(args[0] if args else "out/examples", **fine)
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default="out/examples", help="output folder (created)")
+    ap.add_argument("--fine", action="store_true", help="1 cm and 72 headings")
+    a = ap.parse_args()
+    main(a.out, **(dict(h=1.0, ntheta=72) if a.fine else {}))

@@ -71,3 +71,27 @@ def test_ppo_plume_trains_when_stable_baselines3_is_installed(tmp_path):
     rows = load("ppo_plume").main(["--timesteps", "512", "--eval-every", "512", "--eval-seeds", "3",
                                    "--out", str(tmp_path)])
     assert len(rows) == 2 and (tmp_path / "learning_curve.png").exists()
+
+
+def test_every_example_takes_an_output_folder():
+    """The gallery's contract: ``python examples/NAME.py --out DIR`` writes its figures in DIR."""
+    missing = [p.name for p in EXAMPLES.glob("*.py") if 'add_argument("--out"' not in p.read_text()]
+    assert not missing
+
+
+def test_arenas_figure(tmp_path, pixels_near):
+    import arenas
+    titles = load("arenas_figure").main(["--out", str(tmp_path)])
+    assert len(titles) == len(arenas.builtin_names()) + 2
+    assert pixels_near(tmp_path / "arenas.png", (255, 0, 0), 60) > 50      # the sources' stars
+
+
+def test_planner_convergence(tmp_path):
+    order = load("planner_convergence").main(["--out", str(tmp_path), "--quick"])
+    assert order > 0.8 and (tmp_path / "planner_convergence.png").stat().st_size > 10_000
+
+
+def test_world_figures(tmp_path):
+    paths = load("world_figures").main(["--out", str(tmp_path), "--quick"])
+    assert [p.name for p in paths] == list(load("world_figures").FIGURES)
+    assert all(p.stat().st_size > 10_000 for p in paths)
