@@ -3,8 +3,7 @@
     python examples/arenas_figure.py [--out out/examples]
 
 Writes ``arenas.png``: the built-in arenas (each a YAML file of the package, loaded with
-:func:`arenas.load`), an arena written as YAML text (the README's example, through
-:func:`arenas.from_dict`), and one drawn as a picture (black = obstacle, through
+:func:`arenas.load`), an arena written as YAML text (through :func:`arenas.from_dict`), and one drawn as a picture (black = obstacle, through
 :func:`arenas.from_image`), each with its source (star) and start (arrow).
 """
 
@@ -21,24 +20,24 @@ import arenas
 from arenas.files import parse_yaml
 from reciprocity.viz.figures import draw_arena
 
-#: The README's arena file.
-MY_ARENA = """\
-boundary: [[0, 0], [140, 0], [140, 140], [0, 140]]
+#: An arena file as text: a 120 x 90 cm room, a wall from the floor, a pillar, a wedge.
+ROOM_YAML = """\
+boundary: [[0, 0], [120, 0], [120, 90], [0, 90]]
 obstacles:
-  - [[40, 50], [46, 50], [46, 96], [94, 96], [94, 76], [100, 76], [100, 102], [40, 102]]
-source: [70.21, 70.21]
-strength: 850
-start: [128, 12, 135]
+  - [[40, 0], [45, 0], [45, 55], [40, 55]]
+  - [[75, 40], [90, 40], [90, 55], [75, 55]]
+  - [[95, 80], [110, 80], [102, 65]]
+source: [60, 75]
+strength: 600
+start: [10, 10, 45]
 """
 
 
 def floor_plan(path: Path) -> Path:
-    """A 100 x 80 cm floor plan at 0.5 cm per pixel: a cross, a wall on the left, a wedge."""
-    img = np.full((160, 200), 255, np.uint8)
-    cv2.rectangle(img, (90, 30), (109, 129), 0, -1)
-    cv2.rectangle(img, (60, 70), (139, 89), 0, -1)
-    cv2.rectangle(img, (0, 40), (39, 47), 0, -1)
-    cv2.fillPoly(img, [np.array([[160, 150], [190, 150], [175, 110]])], 0)
+    """A 100 x 100 cm floor plan at 0.5 cm per pixel: a round pillar and an L-shaped wall."""
+    img = np.full((200, 200), 255, np.uint8)
+    cv2.circle(img, (60, 60), 18, 0, -1)
+    cv2.polylines(img, [np.array([[110, 40], [110, 150], [170, 150]])], False, 0, thickness=8)
     cv2.imwrite(str(path), img)
     return path
 
@@ -51,10 +50,10 @@ def main(argv=None) -> list[str]:
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     panels = [(f"{name} (built-in YAML)", arenas.load(name)) for name in arenas.builtin_names()]
-    panels.append(("my_arena.yaml (README)", arenas.from_dict(parse_yaml(MY_ARENA, "my_arena"), where="my_arena")))
+    panels.append(("room.yaml (YAML text)", arenas.from_dict(parse_yaml(ROOM_YAML, "room.yaml"), where="room.yaml")))
     panels.append(("floor_plan.png (image)",
                    arenas.from_image(floor_plan(out / "floor_plan.png"), cm_per_px=0.5,
-                                     source=(25.0, 60.0), start=(60.0, 8.0, 0.0))))
+                                     source=(80.0, 40.0), start=(10.0, 10.0, 0.0))))
     cols = 4
     rows = -(-len(panels) // cols)
     fig = Figure(figsize=(3 * cols, 3 * rows), layout="constrained")
