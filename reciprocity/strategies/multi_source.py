@@ -146,7 +146,7 @@ class SourceBook:
         """The map of found source `j` on the readings less the others' fields, within
         CONFIRM_RADIUS of its estimate."""
         others = [s for i, s in enumerate(self.found) if i != j]
-        return self.residual_map(skip=j, exclude_near=others, within=(self.found[j], CONFIRM_RADIUS), own=True)
+        return self.residual_map(skip=j, exclude_near=others, within=(self.found[j], CONFIRM_RADIUS))
 
     def next_unconfirmed(self, converged) -> int | None:
         """The first found source whose :meth:`confirm_map` has not converged
@@ -190,8 +190,9 @@ class SourceBook:
         own : bool
             Image with the first source's own model (the raw map's strength, known or
             not, and its calibrated errors) instead of the prior EXTRA_STRENGTH (which the
-            Bayes factor needs): locating and confirming a source is then as accurate as
-            locating the first.
+            Bayes factor needs): locating a further source is then as accurate as
+            locating the first. Confirmation keeps the prior: a strength the model does
+            not take as known asks for readings a known one would skip.
         """
         raw = self.raw
         lo, hi = EXTRA_STRENGTH
