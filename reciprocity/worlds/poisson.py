@@ -45,6 +45,11 @@ def truth_solver(arena: Arena, h: float) -> GreenSolver:
     return GreenSolver(arena, h=h, order=TRUTH_ORDER, grading=TRUTH_GRADING)
 
 
+#: Largest factor of a mismatch (``strength_factor``, ``noise_factor``, ``paint_gamma``):
+#: beyond it a true strength or noise overflows what a reading can hold.
+MAX_FACTOR = 1e6
+
+
 @dataclass(frozen=True)
 class Mismatch:
     """How the true world differs from what the strategy is told.
@@ -71,8 +76,9 @@ class Mismatch:
     def __post_init__(self):
         for key in ("strength_factor", "noise_factor", "paint_gamma"):
             val = getattr(self, key)
-            if isinstance(val, bool) or not isinstance(val, (int, float)) or not np.isfinite(val) or val <= 0:
-                raise SearchError(f"mismatch {key} must be a positive number; got {val!r}")
+            if isinstance(val, bool) or not isinstance(val, (int, float)) or not np.isfinite(val) or val <= 0 \
+                    or val > MAX_FACTOR:
+                raise SearchError(f"mismatch {key} must be a positive number up to {MAX_FACTOR:g}; got {val!r}")
         if isinstance(self.wall_shift, bool) or not isinstance(self.wall_shift, (int, float)) \
                 or not np.isfinite(self.wall_shift) or abs(self.wall_shift) > 5:
             raise SearchError(f"mismatch wall_shift must be a number of cm in [-5, 5]; got {self.wall_shift!r}")
