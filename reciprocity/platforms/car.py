@@ -32,13 +32,20 @@ from hjplanner.limits import check_grid
 from ..errors import SearchError, UnreachableTarget
 from ..intents import Intent, Measure, SampleGradient, StepToward
 from ..observations import Observation
+from ..spaces.occupancy import OccupancyGrid
 from ..validation import Bound, check_bounds
 from .base import Platform
+from .lidar import Lidar
 
 __all__ = ["CAR_KEYS", "CarPlatform", "DrivingOptions", "PLANNERS", "check_car_options", "make_car_platform"]
 
 #: How the car gets the value function of a target.
 PLANNERS = ("on-demand", "bank")
+
+#: With a range sensor the car scans every this many cm driven (cm), and at every re-plan:
+#: a scan per camera frame (30 Hz) would come every 0.3 cm at the car's speed and add
+#: nothing a sensor of tens of cm has not seen.
+SCAN_EVERY = 5.0
 
 #: Six bang-bang actions (steer, direction): left / straight / right x forward / reverse.
 ACTIONS = tuple((u, v) for v in (1, -1) for u in (1, 0, -1))
@@ -123,15 +130,30 @@ class CarPlatform(Platform):
         the car meets them with its bumper, not with its planner.
     progress : bool
         Show a progress bar while a value-function bank is built.
+    lidar : Lidar, optional
+        A range sensor on the car: it scans the true walls every SCAN_EVERY cm driven and at
+        every re-plan, and its scans are returned after each reading (kind ``"scan"``).
+    mapping : bool
+        The map is not all known (``map: unknown``): the car keeps its own occupancy grid
+        from its scans (:class:`~reciprocity.spaces.occupancy.OccupancyGrid`), plans on the
+        believed walls with unknown space free (optimistic: a path through space no beam
+        has seen is tried, and abandoned as soon as a beam sees a wall on it; a conservative
+        map would shut the car in its first scan's circle), and re-plans whenever the
+        believed walls change. Needs `lidar` and the on-demand planner.
     """
 
     name = "car"
     intents = (Measure, SampleGradient, StepToward)
 
     def __init__(self, testbed: Testbed, options: DrivingOptions | None = None, *,
-                 believed: Arena | None = None, progress: bool = False):
+                 believed: Arena | None = None, progress: bool = False, lidar: Lidar | None = None,
+                 mapping: bool = False):
         super().__init__()
         self.testbed = testbed
+        self.lidar = lidar
+        if mapping and (lidar is None or (options is not None and options.planner != "on-demand")):
+            raise SearchError("a car on an unknown map needs a lidar and the on-demand planner "
+                              "(planner=on-demand): a bank is built for walls known in advance")
         #: The map the car plans on (never the true walls unless they are the map).
         self.arena: Arena = (believed if believed is not None else testbed.arena).without_scenario()
         self.options = options or DrivingOptions()
@@ -146,12 +168,16 @@ class CarPlatform(Platform):
         else:
             self.planner = OnDemandPlanner(self.arena.without_scenario(), maxsize=8, **common)
             self._value_function = self.planner.get
+        self._planner_options = common
+        self.grid = OccupancyGrid(self.arena) if mapping else None
+        self._scans: list[Observation] = []
+        self._since_scan = 0.0
         self.dead_band = 0.05 * rho if o.dead_band is None else float(o.dead_band)
 
     # -- Platform interface -------------------------------------------------------------
     def reset(self, start, world, rng: np.random.Generator) -> None:
         s = np.asarray(start, dtype=float).ravel()
-        self.world = world
+        self.world, self.rng = world, rng
         self.pose = self.testbed.reset([s[0], s[1], s[2] if len(s) > 2 else 0.0], rng)
         self.path_length = 0.0
         self.last_route = [self.testbed.car.pose[:2].copy()]
@@ -183,11 +209,14 @@ class CarPlatform(Platform):
             else:
                 self._drive_to(intent.point)
                 measured = [self._measure()]
+            if self.lidar is not None:
+                self._sense()                       # the scan where the reading was taken
         finally:
             self._close_visit()
         dwell = self.options.dwell
+        scans, self._scans = self._scans, []
         return [Observation(m.point, m.intensity, m.time - dwell, dwell, kind, m.saturated, self.agent)
-                for m in measured]
+                for m in measured] + scans
 
     def step_log(self) -> dict:
         return self._log
@@ -310,7 +339,17 @@ class CarPlatform(Platform):
                 self._event(f"gave up on target ({goal[0]:.1f}, {goal[1]:.1f}) after {driven:.0f} cm, "
                             f"{dist:.1f} cm short")
                 break
-            if gear_at is None or since_plan >= o.replan_every or plan_s >= gear_at[0][0]:
+            replan = gear_at is None or since_plan >= o.replan_every or plan_s >= gear_at[0][0]
+            if self.lidar is not None and (replan or self._since_scan >= SCAN_EVERY) and self._sense():
+                # the believed walls changed: the target's value function on the new map
+                try:
+                    vf = self._value_function(self._standable(np.asarray(target, dtype=float)))
+                except (PlanningError, UnreachableTarget) as exc:
+                    raise UnreachableTarget(target, f"target ({target[0]:.1f}, {target[1]:.1f}) cm is "
+                                            f"behind walls the car has just seen: {exc}") from None
+                goal, est, replan = vf.target, self._virtual(vf, tb.estimate), True
+                budget = max(budget, driven + 2.0 * float(vf(*est)) + 60.0) if np.isfinite(vf(*est)) else budget
+            if replan:
                 gear_at = self._replan(vf, est)
                 if gear_at is None:
                     if not self._unstick(vf):
@@ -323,6 +362,7 @@ class CarPlatform(Platform):
             v = int(gears[min(np.searchsorted(ends, plan_s, side="right"), len(gears) - 1)])
             new_est = self._tick(self._steer(vf, est, v), v)
             driven += step
+            self._since_scan += step
             since_plan += step
             plan_s += step
             new_dist = np.hypot(*(new_est[:2] - goal))
@@ -330,6 +370,29 @@ class CarPlatform(Platform):
             if new_dist > dist and dist < 3 * o.stop_tol:
                 break  # past the closest approach: stop rather than loop around
             dist = new_dist
+
+    def _sense(self) -> bool:
+        """One scan of the true walls from the true pose, kept for the strategy; on an
+        unknown map, taken into the car's grid at the camera's estimate. True when the
+        believed walls changed (the planner then works on the new map)."""
+        self._since_scan = 0.0
+        tb = self.testbed
+        scan = self.lidar.scan(self.world.true_arena, tb.car.pose, self.rng)
+        here = tb.estimate[:2].copy()
+        self._scans.append(Observation(here, float(scan.ranges.min()), tb.time, 0.0, "scan", agent=self.agent,
+                                       data=scan.as_data()))
+        if self.grid is None:
+            return False
+        self.grid.update(here, scan.angles, scan.ranges, scan.hit, scan.max_range)
+        new = self.grid.believed_arena().without_scenario()
+        if new is self.arena or _same_walls(new, self.arena) or not new.contains(here[None])[0]:
+            return False
+        self.arena = new
+        self.planner = OnDemandPlanner(new, maxsize=8, **self._planner_options)
+        self._value_function = self.planner.get
+        self._event(f"map changed at ({here[0]:.1f}, {here[1]:.1f}): re-planning on "
+                    f"{len(new.obstacles)} believed obstacle(s)")
+        return True
 
     def _virtual(self, vf, est: np.ndarray) -> np.ndarray:
         """The pose the controller steers from: the estimate, or, when drift has taken it
@@ -557,7 +620,8 @@ def make_car_platform(world, *, progress: bool = False, **car) -> CarPlatform:
     ----------
     world : PoissonWorld
         The truth (its true walls, strength and paint curve) for the testbed's physics;
-        the car plans on the world's nominal arena.
+        the car plans on the world's nominal arena, or, on an unknown map, on what the
+        world tells (its believed arena) and what its own lidar shows.
     progress : bool
         Progress bar while a value-function bank is built.
     **car
@@ -566,6 +630,12 @@ def make_car_platform(world, *, progress: bool = False, **car) -> CarPlatform:
         and ``px_per_mm``, the floor resolution.
     """
     options, spec, px = check_car_options(car, world.arena)
+    believed = getattr(world, "believed", None)          # map: unknown: what the car is told
+    lidar = Lidar.from_dict(world.lidar) if getattr(world, "lidar", None) is not None else None
+    if believed is not None and options.planner != "on-demand":
+        raise SearchError("planner=bank needs the walls in advance; on an unknown map the car plans "
+                          "on demand (planner=on-demand)")
     floor = world.floor(px_per_mm=px)
-    return CarPlatform(Testbed(world.true_arena, floor, car=spec), options, believed=world.arena,
-                       progress=progress)
+    return CarPlatform(Testbed(world.true_arena, floor, car=spec), options,
+                       believed=world.arena if believed is None else believed, progress=progress,
+                       lidar=lidar, mapping=believed is not None)

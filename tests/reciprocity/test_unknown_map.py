@@ -3,7 +3,7 @@ grid, and the reciprocity search on a believed map that never holds the true wal
 
 import numpy as np
 import pytest
-from shapely.geometry import Polygon
+from shapely.geometry import Point, Polygon
 from shapely.ops import unary_union
 
 import arenas
@@ -261,3 +261,41 @@ def test_a_shortfall_forgives_readings_below_the_open_model_and_only_those():
     above = -r                                                   # the same misfits, readings above
     np.testing.assert_array_less(im._correlated_misfit(above)[node] - 1e-9, short._correlated_misfit(above)[node])
     assert isinstance(short.on(solver), ShortfallImaging) and short.on(solver).shortfall == 0.5
+
+
+def test_the_car_on_an_unknown_map_plans_on_what_it_has_seen():
+    """The car is told the boundary only: it plans on its own occupancy grid, re-plans as
+    walls appear, returns its scans to the strategy, and never learns a wall its beams did
+    not reach; the true walls stay with the testbed's physics."""
+    from reciprocity.env import SearchEnv, rollout
+    from reciprocity.scenarios import from_dict
+    from reciprocity.strategies import STRATEGIES
+    from reciprocity.strategies.agent import StrategyAgent
+    sc = from_dict(dict(world="poisson", arena={"name": "box-car", "boundary": [[0, 0], [100, 0], [100, 80], [0, 80]],
+                                                "obstacles": [[[40, 20], [60, 20], [60, 50], [40, 50]]],
+                                                "strength": 600, "source": [20, 30], "start": [80, 30, 90]},
+                        map="unknown", lidar={"beams": 32, "range": 40, "noise": 0.5}), name="box-car")
+    env = SearchEnv(sc, platform="car")
+    env.reset(seed=0)
+    car = env.platforms[0]
+    assert not car.arena.obstacles and car.grid is not None          # told the boundary only
+    episode = rollout(env, StrategyAgent(STRATEGIES["reciprocity"]), 0)
+    s = episode.summary
+    car = env.platforms[0]                                               # this episode's car
+    assert s["success"] and s["collisions"] == 0
+    assert car.grid.revision >= 1 and car.arena.obstacles                 # walls it has seen
+    true = Polygon([[40, 20], [60, 20], [60, 50], [40, 50]])
+    believed = np.vstack([np.asarray(o) for o in car.arena.obstacles])
+    assert max(true.exterior.distance(Point(*p)) for p in believed) <= 3.5   # only walls that are there (cell 1 cm, dilated)
+    events = [e["text"] for r in episode.records for e in (r.platform or {}).get("events", [])]
+    assert any("re-planning" in e for e in events)
+    scans = [o for r in episode.records for o in r.observations if o.kind == "scan"]
+    assert len(scans) >= s["n_measurements"]                             # the strategy got them too
+
+
+def test_a_value_function_bank_needs_a_known_map():
+    from reciprocity.env import SearchEnv
+    from reciprocity.errors import SearchError
+    env = SearchEnv("paper", platform="car", world={"map": "unknown"}, platform_options={"planner": "bank"})
+    with pytest.raises(SearchError, match="planner=on-demand"):
+        env.reset(seed=0)

@@ -1,0 +1,293 @@
+"""The believed map of an arena whose obstacles are unknown: an occupancy grid.
+
+A log-odds occupancy grid (Thrun, Burgard & Fox, *Probabilistic Robotics*, ch. 9) over
+the bounding box of the known outer boundary, updated from range scans: the cells inside
+a scan's visibility polygon (the fan through the measured ranges) are seen free, the
+cell of each beam's hit is seen occupied. From it come the seen region, the frontier
+(seen-free cells next to unseen ones) and the believed arena: the outer boundary with
+the believed obstacles, for the PDE.
+
+Unknown space is **free** in the believed arena (optimistic): a wall is in the model only
+once a beam has hit it. The field is then computed as if the unseen part were open;
+the likelihood is widened for what that costs (:mod:`reciprocity.strategies.mapping`),
+and observation points are chosen in seen-free space only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from shapely.geometry import Polygon
+from shapely.ops import unary_union
+
+from arenas import Arena, ArenaError
+
+from ..errors import SearchError
+
+__all__ = ["OccupancyGrid", "L_FREE", "L_OCCUPIED", "L_MAX", "MIN_CHANGE_CM2"]
+
+#: Log-odds added to a cell seen free by one scan (a free beam through it).
+L_FREE = -0.4
+#: Log-odds added to the cell of a hit (one beam ending on a wall there).
+L_OCCUPIED = 1.2
+#: Log-odds are clipped to ``±L_MAX``: a wall seen many times can still be cleared.
+L_MAX = 4.0
+#: A cell is believed occupied above this log-odds (probability 0.6): one hit is enough,
+#: one hit outweighed by two free beams through the cell is not.
+L_THRESHOLD = 0.4
+#: Believed obstacles change only when they differ from the current ones by more than
+#: this area (cm²): a single noisy cell does not re-mesh the model.
+MIN_CHANGE_CM2 = 4.0
+#: Hits within this many cells of the known outer boundary are the boundary itself.
+BOUNDARY_CELLS = 1.5
+#: Cells within this many cells of a place the observer scanned from are never believed
+#: walls (it stood there): its readings stay inside the believed free region.
+VISITED_CELLS = 2.5
+
+
+class OccupancyGrid:
+    """Log-odds occupancy over the box of a known outer boundary, updated from scans.
+
+    Parameters
+    ----------
+    arena : Arena
+        What is known: the outer boundary and any obstacles already told (a partial map),
+        cm. Its obstacles stay obstacles whatever the scans say.
+    cell : float
+        Cell side, cm (about the lidar's range noise or finer makes walls one or two
+        cells thick).
+
+    Attributes
+    ----------
+    logodds : ndarray, shape (ny, nx)
+        Log-odds of occupancy; row ``i`` is ``y = y0 + (i + 1/2) cell``, column ``j`` is
+        ``x = x0 + (j + 1/2) cell`` (world frame, y up: not an image).
+    seen : ndarray of bool, shape (ny, nx)
+        Cells inside a scan's visibility polygon or holding a hit.
+    inside : ndarray of bool, shape (ny, nx)
+        Cells whose centre lies inside the outer boundary.
+    revision : int
+        Incremented each time :meth:`believed_arena` changes.
+
+    Examples
+    --------
+    >>> import arenas
+    >>> grid = OccupancyGrid(arenas.Arena.from_polygons([[0, 0], [40, 0], [40, 40], [0, 40]]))
+    >>> angles = np.linspace(0, 2 * np.pi, 32, endpoint=False)
+    >>> hit = np.zeros(32, dtype=bool)
+    >>> ranges = np.full(32, 10.0)
+    >>> grid.update((20.0, 20.0), angles, ranges, hit, 10.0)
+    >>> bool(grid.seen_at([[20.0, 25.0]])[0]), bool(grid.seen_at([[20.0, 35.0]])[0])
+    (True, False)
+    """
+
+    def __init__(self, arena: Arena, cell: float = 1.0):
+        if not np.isfinite(cell) or cell <= 0:
+            raise SearchError(f"occupancy cell must be a positive number of cm; got {cell!r}")
+        self.known = arena.without_scenario()
+        self.cell = float(cell)
+        (x0, x1), (y0, y1) = self.known.bounds
+        self.origin = np.array([x0, y0])
+        self.nx, self.ny = int(np.ceil((x1 - x0) / cell)), int(np.ceil((y1 - y0) / cell))
+        self.logodds = np.zeros((self.ny, self.nx))
+        self.seen = np.zeros((self.ny, self.nx), dtype=bool)
+        #: cells within VISITED_CELLS of a place a scan was taken from: free for certain
+        self.visited = np.zeros((self.ny, self.nx), dtype=bool)
+        centres = self.centres()
+        outer = Arena.from_polygons(self.known.boundary)
+        self.inside = outer.contains(centres.reshape(-1, 2)).reshape(self.ny, self.nx)
+        self._near_boundary = (outer.wall_distance(centres.reshape(-1, 2)) < BOUNDARY_CELLS * cell
+                               ).reshape(self.ny, self.nx)
+        told = self.known.contains(centres.reshape(-1, 2)).reshape(self.ny, self.nx)
+        self._told = self.inside & ~told
+        self._arena = self.known
+        self._geometry = unary_union([Polygon(o) for o in self.known.obstacles])
+        self.revision = 0
+
+    # ------------------------------------------------------------------ grid
+    def centres(self) -> np.ndarray:
+        """Cell centres, shape (ny, nx, 2), cm."""
+        x = self.origin[0] + (np.arange(self.nx) + 0.5) * self.cell
+        y = self.origin[1] + (np.arange(self.ny) + 0.5) * self.cell
+        return np.stack(np.meshgrid(x, y), axis=-1)
+
+    def index(self, points) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Row, column and in-grid mask of each point (m, 2)."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        ij = np.floor((p - self.origin) / self.cell).astype(int)
+        ok = (ij[:, 0] >= 0) & (ij[:, 0] < self.nx) & (ij[:, 1] >= 0) & (ij[:, 1] < self.ny)
+        return np.clip(ij[:, 1], 0, self.ny - 1), np.clip(ij[:, 0], 0, self.nx - 1), ok
+
+    @property
+    def occupied(self) -> np.ndarray:
+        """Cells believed occupied (log-odds above threshold, or told), shape (ny, nx)."""
+        return (self.inside & (self.logodds > L_THRESHOLD)) | self._told
+
+    @property
+    def free(self) -> np.ndarray:
+        """Cells seen and believed free, shape (ny, nx)."""
+        return self.seen & self.inside & ~self.occupied
+
+    @property
+    def seen_fraction(self) -> float:
+        """Share of the cells inside the boundary that have been seen."""
+        return float((self.seen & self.inside).sum() / max(self.inside.sum(), 1))
+
+    def seen_at(self, points) -> np.ndarray:
+        """Whether each point (m, 2) lies in a seen cell."""
+        r, c, ok = self.index(points)
+        return ok & self.seen[r, c]
+
+    def free_at(self, points) -> np.ndarray:
+        """Whether each point (m, 2) lies in a seen-free cell."""
+        r, c, ok = self.index(points)
+        return ok & self.free[r, c]
+
+    def frontier(self) -> np.ndarray:
+        """Seen-free cells with an unseen neighbour inside the boundary (4-neighbours),
+        shape (ny, nx), leaving out cells within two cells of a believed wall or the
+        boundary: the unseen cells there are the wall's inside, not open space."""
+        from scipy import ndimage
+        unseen = self.inside & ~self.seen
+        near = np.zeros_like(unseen)
+        near[1:] |= unseen[:-1]
+        near[:-1] |= unseen[1:]
+        near[:, 1:] |= unseen[:, :-1]
+        near[:, :-1] |= unseen[:, 1:]
+        walls = ndimage.binary_dilation(np.pad(self.occupied | ~self.inside, 2, constant_values=True),
+                                        np.ones((5, 5), dtype=bool))[2:-2, 2:-2]
+        return self.free & near & ~walls
+
+    # ------------------------------------------------------------------ update
+    def update(self, position, angles: np.ndarray, ranges: np.ndarray, hit: np.ndarray,
+               max_range: float) -> None:
+        """Take in one scan from `position` (cm).
+
+        Parameters
+        ----------
+        position : array_like, shape (2,)
+            Where the scan was taken, cm.
+        angles : ndarray, shape (n,)
+            Beam directions, radians (world frame).
+        ranges : ndarray, shape (n,)
+            Measured ranges, cm.
+        hit : ndarray of bool, shape (n,)
+            Beams that ended on a wall.
+        max_range : float
+            The sensor's range, cm (beams without a hit read it).
+
+        Notes
+        -----
+        The free part is the visibility polygon through the beam ends, each end drawn
+        half a cell short of a hit (so the wall's own cell is hardly cleared), filled with
+        :func:`skimage.draw.polygon`: with 64 beams at 40 cm neighbouring ends lie 4 cm
+        apart, and tracing the beams alone would leave unseen slivers between them.
+        """
+        from skimage.draw import polygon
+        p = np.asarray(position, dtype=float)[:2]
+        angles, ranges = np.asarray(angles, dtype=float), np.asarray(ranges, dtype=float)
+        hit = np.asarray(hit, dtype=bool)
+        d = np.column_stack([np.cos(angles), np.sin(angles)])
+        reach = np.where(hit, np.maximum(ranges - 0.5 * self.cell, 0.0), ranges)
+        ends = p + reach[:, None] * d
+        fx, fy = (ends - self.origin).T / self.cell - 0.5   # fractional cell coordinates
+        rr, cc = polygon(fy, fx, shape=self.logodds.shape)
+        own_r, own_c, own_ok = self.index(p[None])
+        near = np.sum((self.centres() - p) ** 2, axis=-1) <= (VISITED_CELLS * self.cell) ** 2
+        self.visited |= near & self.inside
+        free = np.zeros(self.logodds.shape, dtype=bool)
+        free[rr, cc] = True
+        if own_ok[0]:
+            free[own_r[0], own_c[0]] = True
+        self.logodds[free] += L_FREE
+        self.seen |= free
+        if hit.any():
+            r, c, ok = self.index(p + ranges[hit, None] * d[hit])
+            r, c = r[ok], c[ok]
+            self.seen[r, c] = True
+            keep = ~self._near_boundary[r, c]               # the known boundary itself
+            cells = np.unique(np.column_stack([r[keep], c[keep]]), axis=0)
+            if len(cells):
+                self.logodds[cells[:, 0], cells[:, 1]] += L_OCCUPIED - L_FREE * free[cells[:, 0], cells[:, 1]]
+                self.seen[cells[:, 0], cells[:, 1]] = True
+        np.clip(self.logodds, -L_MAX, L_MAX, out=self.logodds)
+
+    # ------------------------------------------------------------------ believed map
+    def obstacle_mask(self) -> np.ndarray:
+        """Cells the believed arena treats as walls, shape (ny, nx): the occupied cells
+        dilated by one cell (a wall seen from one side is at least three cells thick),
+        gaps of up to about two cells between them or the boundary closed (no model of
+        a slit the beams cannot resolve), and any pocket of free cells they cut off from
+        the largest free part filled (the free region of an arena is connected)."""
+        from scipy import ndimage
+        occ = ndimage.binary_dilation(self.occupied, np.ones((3, 3), dtype=bool))
+        blocked = np.pad(occ | ~self.inside, 3, constant_values=True)
+        disk = np.add.outer(np.arange(-2, 3) ** 2, np.arange(-2, 3) ** 2) <= 4
+        closed = ndimage.binary_closing(blocked, disk)[3:-3, 3:-3]
+        # only gaps next to a believed wall are closed (not the boundary's own corners)
+        blocked = (occ | (closed & ndimage.binary_dilation(occ, disk))) & ~self.visited
+        free = self.inside & ~blocked
+        label, n = ndimage.label(free)
+        if n > 1:
+            sizes = np.bincount(label.ravel())[1:]
+            free = label == 1 + int(np.argmax(sizes))
+        return self.inside & ~free
+
+    def believed_geometry(self):
+        """The believed obstacles as one shapely geometry (cm), cut to the boundary."""
+        from skimage.measure import find_contours
+        mask = np.pad(self.obstacle_mask(), 1, constant_values=False)
+        polys = []
+        for c in find_contours(mask.astype(float), 0.5):
+            xy = self.origin + (c[:, ::-1] - 1 + 0.5) * self.cell   # (row, col) -> (x, y)
+            if len(xy) >= 4:
+                poly = Polygon(xy).buffer(0)
+                if poly.area > self.cell ** 2:
+                    polys.append(poly)
+        if not polys:
+            return Polygon()
+        # the contours of holes come out too: a hole lies inside an outer contour
+        polys.sort(key=lambda g: -g.area)
+        geom = Polygon()
+        for g in polys:
+            geom = geom.difference(g) if geom.contains(g) else geom.union(g)
+        told = unary_union([Polygon(o) for o in self.known.obstacles])
+        return geom.union(told).simplify(0.3 * self.cell).intersection(Polygon(self.known.boundary))
+
+    def believed_arena(self) -> Arena:
+        """The outer boundary with the believed obstacles, unknown space free.
+
+        The same object (and so the same cached solver) is returned until the believed
+        obstacles change by more than MIN_CHANGE_CM2; :attr:`revision` counts changes.
+        A geometry that is not a valid arena (obstacles pinching the free region to a
+        point) keeps the previous arena.
+        """
+        geom = self.believed_geometry()
+        if geom.symmetric_difference(self._geometry).area <= MIN_CHANGE_CM2:
+            return self._arena
+        for closing in (0.0, 0.5 * self.cell, self.cell):
+            arena = self._arena_of(geom, closing)
+            if arena is not None:
+                self._arena, self._geometry = arena, geom
+                self.revision += 1
+                break
+        return self._arena
+
+    def _arena_of(self, geom, closing: float) -> Arena | None:
+        """The arena whose obstacles are `geom` closed by `closing` cm (joins obstacles
+        that touch at a point), with the free region reduced to its largest part; None
+        when that is still not a valid arena."""
+        outer = Polygon(self.known.boundary)
+        if closing > 0:
+            geom = geom.buffer(closing, join_style="mitre").buffer(-closing, join_style="mitre")
+        free = outer.difference(geom).buffer(0)
+        if free.is_empty:
+            return None
+        free = max(getattr(free, "geoms", [free]), key=lambda g: g.area)
+        blocked = outer.difference(Polygon(free.exterior))
+        blocked = unary_union([blocked, *(Polygon(h) for h in free.interiors)])
+        parts = [g for g in getattr(blocked, "geoms", [blocked]) if g.geom_type == "Polygon" and g.area > 0.5 * self.cell ** 2]
+        try:
+            return Arena.from_polygons(self.known.boundary, [np.asarray(g.exterior.coords)[:-1] for g in parts],
+                                       name=self.known.name, strength=self.known.strength).without_scenario()
+        except ArenaError:
+            return None
