@@ -45,16 +45,23 @@ FROM r GROUP BY scenario ORDER BY any_value(arena), k, scenario
 
 #: Per run: the errors of its true sources (a list; a JSON text where every entry was null).
 ERRORS_SQL = "SELECT scenario, CAST(errors AS VARCHAR) AS errors, error FROM runs"
+#: The same where no run had several sources.
+ERROR_SQL = "SELECT scenario, NULL AS errors, error FROM runs"
 
 def table(directory: Path) -> str:
     """The Markdown table of a finished (or partial) campaign in `directory`."""
     con = open_report_db(directory)
     columns = {c[0] for c in con.execute("DESCRIBE runs").fetchall()}
-    sql = TABLE_SQL if "collisions" in columns else TABLE_SQL.replace("sum(collisions)", "NULL")  # the car's
+    sql = TABLE_SQL
+    for column, used, absent in (("collisions", "sum(collisions)", "NULL"),          # the car's
+                                 ("sources", "json_array_length(sources)", "NULL"),  # several sources'
+                                 ("n_sources_right", "coalesce(n_sources_right, true)", "true")):
+        if column not in columns:
+            sql = sql.replace(used, absent)
     rows = con.execute(sql).fetchall()
     names = [d[0] for d in con.description]
     errors: dict[str, list] = {}
-    for scenario, listed, error in con.execute(ERRORS_SQL).fetchall():
+    for scenario, listed, error in con.execute(ERRORS_SQL if "errors" in columns else ERROR_SQL).fetchall():
         values = [error] if listed is None else json.loads(listed.replace("NULL", "null"))
         errors.setdefault(scenario, []).extend(values)
     out = ["| scenario | K | runs | K right [95 % CI] | success [95 % CI] | error med / p90 (cm) | "
