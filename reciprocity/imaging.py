@@ -210,6 +210,14 @@ class ImagingMap(Belief):
         """Dof values of ``G(·, z_k)``, one column per reading, shape (n_nodes, M)."""
         return self._columns.array
 
+    @property
+    def greens(self) -> np.ndarray:
+        """The adjoint fields of the readings: nodal values of ``G(·, z_k)``, one column
+        per reading, shape (n_nodes, M). By reciprocity column ``k`` at a node ``x`` is
+        ``G(z_k, x)``, what a unit source at ``x`` reads at ``z_k``. A view: read it,
+        never write it."""
+        return self._columns.array
+
     # ------------------------------------------------------------------ data
     def add(self, z, reading: float, green: np.ndarray | None = None, *,
             saturated: bool = False) -> None:

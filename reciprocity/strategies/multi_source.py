@@ -167,7 +167,7 @@ class SourceBook:
         reading's adjoint field read at the sources (reciprocity)."""
         pts = np.asarray(sources, dtype=float).reshape(-1, 2)
         probe, _ = self.raw.solver.probe_matrix(pts)
-        return np.asarray((probe @ self.raw._g).T)
+        return np.asarray((probe @ self.raw.greens).T)
 
     def predicted(self, skip: int | None = None) -> np.ndarray:
         """The readings the found sources predict (all but number `skip`), shape (m,)."""
@@ -207,7 +207,7 @@ class SourceBook:
         pred = self.predicted(skip)
         noise = raw.sigma / np.sqrt(2.0)
         w = noise / np.sqrt(noise ** 2 + (RESIDUAL_ERROR * pred) ** 2)
-        g = raw._g
+        g = raw.greens
         for k in range(raw.n):
             # whitened: (c g_k - r_k)^2 / var_k = (c w_k g_k - w_k r_k)^2 / noise^2; a
             # saturated reading stays censored (the residual is at least this)

@@ -8,6 +8,7 @@ in the world's unit (cm for arenas). A parameter not listed is checked by its st
 
 from __future__ import annotations
 
+from ..outcome import MAX_SOURCES
 from ..validation import Bound
 
 __all__ = ["STRATEGY_BOUNDS"]
@@ -31,7 +32,10 @@ STRATEGY_BOUNDS: dict[str, dict[str, Bound]] = {
                         reach=Bound(0, 1e4, none=True, unit="cm"), tail_tol=Bound(0, 1, none=True),
                         sigma=Bound(1e-6, 1e6, words=("calibrated", "auto", "noise"), none=True),
                         max_steps=_STEPS, clearance=_CLEARANCE, strength=_STRENGTH, h=_MESH_H,
-                        solver=Bound(python=True)),
+                        solver=Bound(python=True), max_sources=Bound(1, MAX_SOURCES, integer=True, none=True),
+                        more_tol=Bound(0, 1, lo_open=True, hi_open=True),
+                        survey_travel=Bound(1e-3, 1e4, none=True, unit="cm"),
+                        survey_reach=Bound(1e-3, 1e4, words=("reach",), unit="cm")),
     "gradient": dict(i_min=Bound(0, 1e6), i_max=Bound(0, 1e6, none=True), stop_radius=Bound(0, 1e4, unit="cm"),
                      d=Bound(1e-3, 1e4, unit="cm"), delta=Bound(1e-3, 1e3, unit="cm"),
                      step_max=Bound(1e-3, 1e4, unit="cm"), kappa=Bound(0, 1e6), max_steps=_STEPS,
