@@ -133,8 +133,7 @@ class SearchEnv:
         self._rounds, self._found_by, self._summary = 0, None, None
         # the evaluator classifies the source before the run: can the first observer reach it
         # on the true walls? (the agent gets only the platform's own reachability, on its map)
-        sources = np.atleast_2d(np.asarray(getattr(world, "sources", world.source), dtype=float))
-        reach = plats[0].truly_reachable(sources)
+        reach = plats[0].truly_reachable(world.sources)
         self._source_reachable = True if reach is None else bool(np.all(reach))
         task = Task(world=world.kind, scenario=sc.name, world_nominal=world.nominal(),
                     platform=self.platform_name, platform_nominal=plats[0].nominal(),
@@ -220,9 +219,9 @@ class SearchEnv:
         if len(plats) > 1 or report.agents != 1:
             summary.update(n_agents=len(plats), messages=len(report.messages), starts=self._starts.tolist())
         true = np.array([p.true_position[:2] for p in plats], dtype=float)
-        sources = np.atleast_2d(np.asarray(getattr(world, "sources", world.source), dtype=float))
+        sources = world.sources
         summary["distance_at_stop"] = float(np.min(np.hypot(*(true[:, None] - sources[None]).T)))
-        if getattr(world, "max_sources", 1) > 1 or len(sources) > 1:
+        if world.max_sources > 1 or len(sources) > 1:
             summary.update(self._several(report, est, sources, stop, world.success_radius))
         if report.position_support is not None:
             # Ristic et al. (2014) Sec. 5.1: success also needs the true node among the
