@@ -142,27 +142,32 @@ def make_grid(domain, h: float, ntheta: int, clearance: float) -> tuple[Grid, np
     return grid, distance.reshape(nx, ny), free.reshape(nx, ny)
 
 
+@njit(cache=True, nogil=True, inline="always")
+def lower_wall_bound(distance, x0, y0, h, x, y):
+    """:func:`lower_wall_distance` of one point (x, y)."""
+    nx, ny = distance.shape
+    gx = (x - x0) / h
+    gy = (y - y0) / h
+    if not (gx >= -1e-9 and gx <= nx - 1 + 1e-9 and gy >= -1e-9 and gy <= ny - 1 + 1e-9):
+        return -np.inf
+    i = min(max(int(np.floor(gx)), 0), nx - 2)
+    j = min(max(int(np.floor(gy)), 0), ny - 2)
+    best = -np.inf
+    for a in range(2):
+        for b in range(2):
+            bound = distance[i + a, j + b] - h * np.hypot(gx - i - a, gy - j - b)
+            if bound > best:
+                best = bound
+    return best
+
+
 @njit(cache=True, nogil=True)
 def lower_wall_distance(distance, x0, y0, h, xs, ys):
     """Certified lower bound ``L(p)`` of the wall distance at each point (see the module notes).
 
     ``-inf`` outside the grid.
     """
-    nx, ny = distance.shape
     out = np.empty(xs.shape[0])
     for m in range(xs.shape[0]):
-        gx = (xs[m] - x0) / h
-        gy = (ys[m] - y0) / h
-        if not (gx >= -1e-9 and gx <= nx - 1 + 1e-9 and gy >= -1e-9 and gy <= ny - 1 + 1e-9):
-            out[m] = -np.inf
-            continue
-        i = min(max(int(np.floor(gx)), 0), nx - 2)
-        j = min(max(int(np.floor(gy)), 0), ny - 2)
-        best = -np.inf
-        for a in range(2):
-            for b in range(2):
-                bound = distance[i + a, j + b] - h * np.hypot(gx - i - a, gy - j - b)
-                if bound > best:
-                    best = bound
-        out[m] = best
+        out[m] = lower_wall_bound(distance, x0, y0, h, xs[m], ys[m])
     return out

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike
 
-from ._grid import Grid, lower_wall_distance
+from ._grid import Grid, lower_wall_bound
 
 LEFT, STRAIGHT, RIGHT = 1, 0, -1
 
@@ -63,9 +64,13 @@ def controls(rho: float, grid: Grid, turn_steps, straight_cells, reverse: bool) 
     return out
 
 
+#: Clearance samples along an arc are spaced this fraction of the grid spacing apart.
+SAMPLE_FRACTION = 0.25
+
+
 def sample_spacing(h: float) -> float:
     """Arc-length spacing of the clearance samples along an arc: ``h/4``."""
-    return 0.25 * h
+    return SAMPLE_FRACTION * h
 
 
 def arc_samples(poses: np.ndarray, u: np.ndarray, v: np.ndarray, s: np.ndarray, rho: float,
@@ -106,9 +111,101 @@ def arcs_are_clear(distance: np.ndarray, grid: Grid, clearance: float, poses: np
     numpy.ndarray
         (n,) bool.
     """
-    spacing = sample_spacing(grid.h)
-    points = arc_samples(poses, u, v, s, rho, spacing)
-    step = s / (points.shape[1] - 1)
-    bound = lower_wall_distance(distance, grid.x0, grid.y0, grid.h, np.ascontiguousarray(points[..., 0].ravel()),
-                                np.ascontiguousarray(points[..., 1].ravel())).reshape(points.shape[:2])
-    return (bound >= clearance + 0.5 * step[:, None]).all(axis=1)
+    poses = np.ascontiguousarray(poses, float).reshape(-1, 3)
+    u, v, s = (np.ascontiguousarray(np.broadcast_to(a, len(poses)), float) for a in (u, v, s))
+    if not len(poses):
+        return np.ones(0, dtype=bool)
+    return _arcs_clear(distance, grid.x0, grid.y0, grid.h, float(clearance), poses, u, v, s, float(rho))
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _arc_is_clear(distance, x0, y0, h, need, x, y, th, u, v, s, k, rho):
+    """Whether the k samples of one arc (fractions of ``np.linspace(0, 1, k)``) all have a
+    certified wall distance of at least ``need``."""
+    frac_step = 1.0 / (k - 1)
+    for j in range(k):
+        frac = 1.0 if j == k - 1 else j * frac_step
+        px, py, _ = _arc_end(x, y, th, u, v, s * frac, rho)
+        if not lower_wall_bound(distance, x0, y0, h, px, py) >= need:
+            return False
+    return True
+
+
+@njit(cache=True, nogil=True)
+def _arcs_clear(distance, x0, y0, h, clearance, poses, u, v, s, rho):
+    """:func:`arcs_are_clear`, compiled: as many samples on every arc as on the longest."""
+    k = max(2, int(np.ceil(np.max(s) / (SAMPLE_FRACTION * h) - 1e-9)) + 1)  # as arc_samples
+    out = np.empty(poses.shape[0], dtype=np.bool_)
+    for n in range(poses.shape[0]):
+        out[n] = _arc_is_clear(distance, x0, y0, h, clearance + 0.5 * (s[n] / (k - 1)), poses[n, 0], poses[n, 1],
+                               poses[n, 2], u[n], v[n], s[n], k, rho)
+    return out
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _arc_end(x, y, th, u, v, ds, rho):
+    """:func:`arc_step` of one pose, in the same floating-point operations (so the same bits)."""
+    dth = u * ds / rho
+    chord = ds if u == 0 else 2 * rho * np.sin(0.5 * abs(dth)) / abs(u)
+    mid = th + v * 0.5 * dth
+    return x + v * chord * np.cos(mid), y + v * chord * np.sin(mid), np.mod(th + v * dth, 2 * np.pi)
+
+
+@njit(cache=True, nogil=True)
+def arcs_from(pose, u, v, s, rho, distance, x0, y0, h, clearance):
+    """End poses and clearance of the arcs (u, v, s) (m,) from one pose (3,).
+
+    The same as :func:`arc_step` of the pose for every control and
+    :func:`arcs_are_clear` of those arcs (sampled together, so every arc has
+    as many samples as the longest), in one compiled pass: the hybrid A*
+    of :func:`hjplanner.optimal_path` calls it once per pose it expands.
+
+    Returns
+    -------
+    ends : numpy.ndarray
+        (m, 3) end poses, θ in [0, 2π).
+    clear : numpy.ndarray
+        (m,) bool: the arc stays certified at ``clearance`` all along.
+    """
+    m = u.shape[0]
+    k = max(2, int(np.ceil(np.max(s) / (SAMPLE_FRACTION * h) - 1e-9)) + 1)  # as arc_samples
+    ends = np.empty((m, 3))
+    clear = np.empty(m, dtype=np.bool_)
+    for c in range(m):
+        uc, vc, sc = float(u[c]), float(v[c]), s[c]
+        clear[c] = _arc_is_clear(distance, x0, y0, h, clearance + 0.5 * (sc / (k - 1)), pose[0], pose[1], pose[2],
+                                 uc, vc, sc, k, rho)
+        ex, ey, et = _arc_end(pose[0], pose[1], pose[2], uc, vc, sc, rho)
+        ends[c, 0], ends[c, 1], ends[c, 2] = ex, ey, et
+    return ends, clear
+
+
+@njit(cache=True, nogil=True)
+def drive_runs(start, run_u, run_v, run_length, ds, rho):
+    """Poses of runs of equal controls driven from ``start`` in steps of at most ``ds``.
+
+    Run r is cut into ``n = ceil(length / ds)`` equal steps, its poses
+    ``arc_step(pose at the run's start, u, v, length * k / n)`` for k = 1..n
+    (one arc from the run's start, not a chain of steps).
+
+    Returns
+    -------
+    poses : numpy.ndarray
+        (1 + total steps, 3), the start first.
+    steps : numpy.ndarray
+        (runs,) int: the number of steps of each run.
+    """
+    steps = np.empty(run_u.shape[0], np.int64)
+    for r in range(run_u.shape[0]):
+        steps[r] = max(1, int(np.ceil(run_length[r] / ds - 1e-9)))
+    poses = np.empty((1 + steps.sum(), 3))
+    poses[0, 0], poses[0, 1], poses[0, 2] = start[0], start[1], start[2]
+    at = 0
+    for r in range(run_u.shape[0]):
+        x, y, th = poses[at, 0], poses[at, 1], poses[at, 2]
+        n = steps[r]
+        for k in range(1, n + 1):
+            px, py, pt = _arc_end(x, y, th, run_u[r], run_v[r], run_length[r] * k / n, rho)
+            poses[at + k, 0], poses[at + k, 1], poses[at + k, 2] = px, py, pt
+        at += n
+    return poses, steps

@@ -168,7 +168,15 @@ def local_exact(x, y, theta, target, rho: float, r0: float, reverse: bool = Fals
     the value is the better of driving forwards or backwards all the way (an
     upper bound of the Reeds-Shepp distance).
     """
-    values = point_distance(x, y, theta, rho, target)
-    if reverse:
-        values = np.minimum(values, point_distance(x, y, np.asarray(theta) + np.pi, rho, target))
-    return np.where(values <= r0, values, np.inf)
+    x, y, theta = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float), np.asarray(theta, float))
+    out = np.full(x.shape, np.inf)
+    # A path is no shorter than the straight line: only poses within r0 of the
+    # target (and round-off) can have a finite value, so only those are solved.
+    near = np.hypot(x - target[0], y - target[1]) <= r0 * (1.0 + 1e-9) + 1e-12
+    if near.any():
+        xs, ys, ts = x[near], y[near], theta[near]
+        values = point_distance(xs, ys, ts, rho, target)
+        if reverse:
+            values = np.minimum(values, point_distance(xs, ys, ts + np.pi, rho, target))
+        out[near] = np.where(values <= r0, values, np.inf)
+    return out

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import heapq
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._motion import LEFT, RIGHT, STRAIGHT, arc_step, arcs_are_clear
+from ._motion import LEFT, RIGHT, STRAIGHT, arc_step, arcs_are_clear, drive_runs
+from ._search import hybrid_astar
 from .dubins import local_exact
 from .errors import PlanningError
 from .options import SolverOptions
@@ -75,15 +75,10 @@ def _runs(steering, direction, step_lengths) -> list[list]:
 
 def _drive(start: np.ndarray, runs, ds: float, rho: float):
     """Poses, steering, direction and step lengths of ``runs`` driven from ``start`` in steps of at most ``ds``."""
-    poses, u, v, steps = [np.asarray(start, float)[None]], [], [], []
-    for run_u, run_v, length in runs:
-        n = max(1, int(np.ceil(length / ds - 1e-9)))
-        along = length * np.arange(1, n + 1) / n
-        poses.append(arc_step(poses[-1][-1], run_u, run_v, along, rho))
-        u += [run_u] * n
-        v += [run_v] * n
-        steps += [length / n] * n
-    return np.concatenate(poses), np.array(u, dtype=int), np.array(v, dtype=int), np.array(steps)
+    run_u, run_v, length = (np.array([run[i] for run in runs], dtype=float).reshape(-1) for i in range(3))
+    poses, n = drive_runs(np.asarray(start, float).reshape(3), run_u, run_v, length, float(ds), float(rho))
+    return (poses, np.repeat(run_u.astype(int), n), np.repeat(run_v.astype(int), n),
+            np.repeat(length / n, n))
 
 
 def _clear(vf, poses, u, v, steps) -> bool:
@@ -178,21 +173,8 @@ def _stencil_controls(vf) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return u.astype(int), v.astype(int), s.astype(float)
 
 
-def _arc_values(vf, poses: np.ndarray, us, vs, lengths, lenient: bool) -> tuple[np.ndarray, np.ndarray]:
-    """``s + φ(end of the arc)`` (n, m) for each pose (n, 3) and control (m,), +inf where the arc is not clear.
-
-    Also returns the arcs' end poses (n, m, 3).
-    """
-    n, m = len(poses), len(us)
-    starts = np.repeat(poses, m, axis=0)
-    u, v, s = np.tile(us, n), np.tile(vs, n), np.tile(lengths, n)
-    ends = arc_step(starts, u, v, s, vf.rho)
-    values = s + vf(ends[:, 0], ends[:, 1], ends[:, 2], cubic=False, lenient=lenient)
-    clear = arcs_are_clear(vf.distance, vf.grid, vf.clearance, starts, u, v, s, vf.rho)
-    return np.where(clear, values, np.inf).reshape(n, m), ends.reshape(n, m, 3)
-
-
-def _search(vf, start: np.ndarray, us, vs, lengths, arrived, arcs_pass, max_length: float, max_steps: int):
+def _search(vf, start: np.ndarray, us, vs, lengths, stop_tol: float, ds: float, max_length: float,
+            max_steps: int) -> tuple[list, bool]:
     """A* over chains of stencil arcs from ``start``, guided by φ (hybrid A*).
 
     A pose reached with arc length ``g`` is ranked by ``g + φ(pose)``; its
@@ -204,52 +186,20 @@ def _search(vf, start: np.ndarray, us, vs, lengths, arrived, arcs_pass, max_leng
     interpolation is optimistic, it backs out of poses from which no arc
     leads on.  A pose is expanded once per (x, y, θ) grid cell.
 
-    Returns the controls [(u, v, s), ...] up to the first pose for which
-    ``arrived(poses)`` holds or the first arc for which ``arcs_pass(poses,
-    u, v, s)`` holds -- or, failing that, up to the expanded pose of
-    smallest φ -- and whether it arrived.
+    Returns the controls [(u, v, s), ...] up to the first pose that arrives
+    (within ``stop_tol`` of the target or in the exact layer) or the first
+    arc that arrives somewhere along its length, sampled every ``ds`` -- or,
+    failing that, up to the expanded pose of smallest φ -- and whether it
+    arrived.  The search runs compiled (:func:`hjplanner._search.hybrid_astar`).
     """
-    grid = vf.grid
-
-    def cell(pose):
-        return (int(np.floor(pose[0] / grid.h)), int(np.floor(pose[1] / grid.h)),
-                int(np.floor(np.mod(pose[2], 2 * np.pi) / grid.dtheta + 0.5)) % grid.ntheta)
-
-    poses, parents, moves, done = [start], [-1], [None], [bool(arrived(start[None])[0])]
-    heap = [(float(vf(*start, cubic=False, lenient=True)), 0, 0.0, 0)]
-    closed, counter, best = set(), 0, (np.inf, 0)
-    while heap and len(closed) < max_steps:
-        _, _, g, n = heapq.heappop(heap)
-        if done[n]:
-            return _chain(parents, moves, n), True
-        key = cell(poses[n])
-        if key in closed:
-            continue
-        closed.add(key)
-        values, ends = _arc_values(vf, poses[n][None], us, vs, lengths, lenient=len(closed) == 1)
-        values, ends = values[0], ends[0]
-        if np.isfinite(values.min()):
-            best = min(best, (float(values.min() - lengths[np.argmin(values)]), n))
-        passing = arcs_pass(np.repeat(poses[n][None], len(us), axis=0), us, vs, lengths) | arrived(ends)
-        for c in np.flatnonzero(np.isfinite(values)):
-            if g + lengths[c] > max_length:
-                continue
-            counter += 1
-            poses.append(ends[c])
-            parents.append(n)
-            moves.append((int(us[c]), int(vs[c]), float(lengths[c])))
-            done.append(bool(passing[c]))
-            heapq.heappush(heap, (g + float(values[c]), counter, g + lengths[c], len(poses) - 1))
-    return _chain(parents, moves, best[1]), False
-
-
-def _chain(parents, moves, n) -> list:
-    """Controls from the root of the search tree to node ``n``."""
-    out = []
-    while parents[n] >= 0:
-        out.append(moves[n])
-        n = parents[n]
-    return out[::-1]
+    g = vf.grid
+    value_start = float(vf(*start, cubic=False, lenient=True))
+    moves, arrived = hybrid_astar(
+        vf._phi, vf.free, vf.distance, g.x0, g.y0, g.h, g.dtheta, g.ntheta, np.asarray(start, float), value_start,
+        np.ascontiguousarray(us, np.int64), np.ascontiguousarray(vs, np.int64), np.ascontiguousarray(lengths, float),
+        vf.rho, vf.clearance, float(vf.target[0]), float(vf.target[1]), float(stop_tol),
+        float(vf.meta.get("local_radius", 0.0)), vf.reverse, float(ds), float(max_length), int(max_steps))
+    return [(int(us[c]), int(vs[c]), float(lengths[c])) for c in moves], bool(arrived)
 
 
 def optimal_path(vf, start_pose: ArrayLike, ds: float | None = None, *, stop_tol: float | None = None,
@@ -339,19 +289,8 @@ def optimal_path(vf, start_pose: ArrayLike, ds: float | None = None, *, stop_tol
             out |= np.isfinite(local_exact(poses[:, 0], poses[:, 1], poses[:, 2], target, rho, r0, vf.reverse))
         return out
 
-    def arcs_pass(poses, u, v, s) -> np.ndarray:
-        """Whether each arc arrives (see ``arrived``) somewhere along its length, sampled every ds."""
-        near = np.hypot(*(poses[:, :2] - target).T) <= s + max(stop_tol, r0)
-        out = np.zeros(len(poses), dtype=bool)
-        if near.any():
-            along = np.linspace(0.0, 1.0, max(2, int(np.ceil(s.max() / ds)) + 1))
-            samples = arc_step(poses[near][:, None, :], u[near][:, None], v[near][:, None],
-                               s[near][:, None] * along, rho)
-            out[near] = arrived(samples.reshape(-1, 3)).reshape(samples.shape[:2]).any(axis=1)
-        return out
-
     budget = max(2000, int(20 * max_length / lengths.min()))
-    runs, _ = _search(vf, start, us, vs, lengths, arrived, arcs_pass, max_length, budget)
+    runs, _ = _search(vf, start, us, vs, lengths, stop_tol, ds, max_length, budget)
     poses, steering, direction, step_lengths = _drive(start, runs, ds, rho)
     # stop where the last arc first comes within stop_tol or enters the exact layer
     cut = int(np.argmax(arrived(poses))) if arrived(poses).any() else len(poses) - 1
@@ -363,10 +302,12 @@ def optimal_path(vf, start_pose: ArrayLike, ds: float | None = None, *, stop_tol
     short_v = np.repeat((1, -1) if vf.reverse else (1,), 3)
     tail = []
     driven = float(step_lengths.sum())
-    while not np.hypot(*(pose[:2] - target)) <= stop_tol and in_exact_layer(pose) and driven < max_length:
+    inside = in_exact_layer(pose)
+    while not np.hypot(*(pose[:2] - target)) <= stop_tol and inside and driven < max_length:
         ends = arc_step(np.repeat(pose[None], len(short_u), axis=0), short_u, short_v, ds, rho)
-        best = _first_minimum(local_exact(ends[:, 0], ends[:, 1], ends[:, 2], target, rho, r0, vf.reverse))
-        pose = ends[best]
+        exact = local_exact(ends[:, 0], ends[:, 1], ends[:, 2], target, rho, r0, vf.reverse)
+        best = _first_minimum(exact)
+        pose, inside = ends[best], bool(np.isfinite(exact[best]))
         tail.append((short_u[best], short_v[best], ds))
         driven += ds
     if tail:

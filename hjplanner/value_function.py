@@ -108,22 +108,32 @@ class ValueFunction:
         Never NaN for finite inputs.
         """
         x, y, theta = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float), np.asarray(theta, float))
-        shape = x.shape
-        out = _sweep.interpolate(self._phi, self.free, self.certified_clear(x, y).ravel(), self.grid.x0,
-                                 self.grid.y0, self.grid.h, np.ascontiguousarray(x.ravel()),
-                                 np.ascontiguousarray(y.ravel()), np.ascontiguousarray(theta.ravel()), bool(cubic),
+        return self.at_certified(x.ravel(), y.ravel(), theta.ravel(), self.certified_clear(x, y).ravel(),
+                                 cubic=cubic, lenient=lenient).reshape(x.shape)
+
+    def at_certified(self, x: np.ndarray, y: np.ndarray, theta: np.ndarray, certified: np.ndarray, *,
+                     cubic: bool = True, lenient: bool = False) -> np.ndarray:
+        """φ at poses (n,) whose clearance the caller has already decided.
+
+        As :meth:`__call__`, with ``certified`` (n,) bool in place of
+        :meth:`certified_clear`: +inf where it is False.  For callers that
+        certify positions on the way (the path search, whose arcs end on
+        their last certified sample).
+        """
+        out = _sweep.interpolate(self._phi, self.free, np.ascontiguousarray(certified), self.grid.x0,
+                                 self.grid.y0, self.grid.h, np.ascontiguousarray(x),
+                                 np.ascontiguousarray(y), np.ascontiguousarray(theta), bool(cubic),
                                  bool(lenient))
         r0 = float(self.meta.get("local_radius", 0.0))
         if r0 > 0:
             # The solver's exact initial layer (see solve): where the optimal path
             # is shorter than r0, φ is known exactly and sharper than any
             # interpolant across the thin valley of φ around the target.
-            xr, yr, tr = x.ravel(), y.ravel(), theta.ravel()
-            near = np.hypot(xr - self.target[0], yr - self.target[1]) <= r0
+            near = np.hypot(x - self.target[0], y - self.target[1]) <= r0
             if near.any():
-                exact = local_exact(xr[near], yr[near], tr[near], self.target, self.rho, r0, self.reverse)
+                exact = local_exact(x[near], y[near], theta[near], self.target, self.rho, r0, self.reverse)
                 out[near] = np.minimum(out[near], exact)
-        return out.reshape(shape)
+        return out
 
     def dtheta(self, x: ArrayLike, y: ArrayLike, theta: ArrayLike, step: float | None = None) -> np.ndarray:
         """Centred difference approximation of φ_θ (length per radian), nan-free (+-inf or 0 when one-sided)."""
