@@ -39,7 +39,7 @@ PROBE_CACHE_MIN = 10_000
 #: ... and this many of them per solver (a 1 px/mm floor of ``paper`` is 10 chunks).
 PROBE_CACHE_SIZE = 24
 #: Bumped whenever a solver would give different Green's functions on the same mesh.
-GREEN_FORMAT = 1
+GREEN_FORMAT = 2
 #: Green's functions kept on disk by :meth:`GreenSolver.green` with ``cached=True``, the
 #: least recently used removed first (about 1 MB each for the truth of ``paper``).
 GREEN_CACHE_SIZE = 64
@@ -189,18 +189,26 @@ class GreenSolver:
         return self._stiffness
 
     def factorize(self) -> "GreenSolver":
-        """Assemble and factorize now, as the first solve otherwise does; returns the solver."""
+        """Assemble and factorize now, as the first solve otherwise does; returns the solver.
+
+        Notes
+        -----
+        The stiffness matrix with the Dirichlet dofs removed is symmetric positive
+        definite (the outer boundary is always Dirichlet), so SuperLU orders it by
+        minimum degree on ``A + A^T`` and keeps the diagonal pivots (``SymmetricMode``,
+        ``diag_pivot_thresh=0``): no row exchanges, which would spoil a symmetric
+        ordering, and less fill than the default COLAMD column ordering, hence faster
+        back-substitutions, which dominate a search (one or more per reading).
+        """
         if self._lu is None:
             from scipy.sparse.linalg import splu
             a_free = self.stiffness[self._free]
             clock = time.perf_counter()
             self._a_id = a_free[:, self._dirichlet].tocsr()
-            # SuperLU with its default COLAMD ordering. MMD_AT_PLUS_A halves the fill; with
-            # partial pivoting each back-substitution is ~9x slower, with diagonal pivots
-            # (SymmetricMode, diag_pivot_thresh=0) 1.6x faster (27k unknowns: 2.5 -> 1.5 ms),
-            # but it moves every result by round-off (summaries in the last digits, the
-            # unknown-strength imaging map by up to 0.06), so it waits for a wanted change
-            self._lu = splu(a_free[:, self._free].tocsc())
+            # symmetric ordering with diagonal pivots (Notes); the same ordering with the
+            # default partial pivoting exchanges rows and is many times slower
+            self._lu = splu(a_free[:, self._free].tocsc(), permc_spec="MMD_AT_PLUS_A",
+                            diag_pivot_thresh=0.0, options=dict(SymmetricMode=True))
             self.timings["factorize"] = time.perf_counter() - clock
         return self
 
