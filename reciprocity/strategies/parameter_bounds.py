@@ -15,7 +15,7 @@ __all__ = ["STRATEGY_BOUNDS"]
 
 _STEPS = Bound(1, 100_000, integer=True)                     # a strategy's own step cap
 _CLEARANCE = Bound(0, 50, unit="cm")
-_STRENGTH = Bound(1e-6, 1e6, words=("arena", "fit"), none=True)
+_STRENGTH = Bound(1e-6, 1e6, words=("arena",), none=True)
 _MESH_H = Bound(0.2, 20, unit="cm")                            # ~0.5 M triangles at most on 140 cm
 _PARTICLES = Bound(10, 100_000, integer=True)
 _PLUME_BELIEF = dict(particles=_PARTICLES, resample_below=Bound(0, 1), mcmc_steps=Bound(0, 100, integer=True),
