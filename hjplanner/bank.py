@@ -18,11 +18,16 @@ import hashlib
 import json
 import multiprocessing
 import os
+import pickle
 import re
 import shutil
+import tempfile
 import time
+import warnings
 from collections import OrderedDict
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import TimeoutError as FutureTimeout
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 
 import numpy as np
@@ -97,10 +102,56 @@ def lattice_targets(domain, spacing: float, *, h: float = 1.0, clearance: float 
 _WORKSPACE: Workspace | None = None
 
 
-def _set_workspace(ws: Workspace) -> None:
-    """Process-pool initializer: each worker receives the workspace once."""
+def _set_workspace(path: str) -> None:
+    """Process-pool initializer: each worker reads the workspace once, from the file the
+    pool's owner wrote (see :func:`_start_pool`)."""
     global _WORKSPACE
-    _WORKSPACE = ws
+    with open(path, "rb") as fh:
+        _WORKSPACE = pickle.load(fh)
+
+
+#: Seconds a worker process may take to start (import numba, receive the workspace) before
+#: the bank is built in the calling process instead.
+STARTUP_TIMEOUT = 120.0
+
+
+def _start_pool(workers: int, workspace_file: str) -> ProcessPoolExecutor | None:
+    """A pool of ``workers`` spawned processes, each holding the workspace pickled in
+    ``workspace_file``, once one of them has answered; None (with a warning) if a worker died
+    or did not answer within :data:`STARTUP_TIMEOUT`.
+
+    A spawned worker first runs the caller's main module again.  A script that builds a bank
+    outside ``if __name__ == "__main__":`` makes that worker fail; the bank is then built in
+    this process.  The workspace travels as a file name, not in the start-up message: a
+    message larger than a pipe's buffer would block this process for ever on a worker that
+    died before reading it.
+    """
+    # spawn: no inherited threads or locks from the parent, the same on every OS.
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
+                               initializer=_set_workspace, initargs=(workspace_file,))
+    ready = pool.submit(os.getpid)
+    deadline = time.monotonic() + STARTUP_TIMEOUT
+    while True:
+        try:
+            ready.result(timeout=0.25)
+            return pool
+        except FutureTimeout:
+            if not any(p.exitcode is not None for p in _pool_processes(pool)) and time.monotonic() < deadline:
+                continue
+        except BrokenProcessPool:
+            pass
+        for process in _pool_processes(pool):
+            process.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        warnings.warn("hjplanner: the bank's worker processes could not start (a script that builds a bank "
+                      "must do so under `if __name__ == '__main__':`); building it in this process",
+                      RuntimeWarning, stacklevel=3)
+        return None
+
+
+def _pool_processes(pool: ProcessPoolExecutor) -> list:
+    """The pool's worker processes (the executor keeps them in ``_processes``; none if that changes)."""
+    return list((getattr(pool, "_processes", None) or {}).values())
 
 
 def _solve_to_file(target, path: str, ws: Workspace | None = None) -> str:
@@ -192,22 +243,29 @@ class ValueFunctionBank:
         if workers > 1:
             ws = Workspace(**{**vars(ws), "options": SolverOptions(**dict(ws.options.as_dict(), threads=1))})
         bar = tqdm(total=len(todo), desc=f"value functions ({self.key[:8]})", disable=not progress, unit="vf")
+        scratch = None
         try:
-            if workers == 1:
+            pool = None
+            if workers > 1:
+                self.directory.mkdir(parents=True, exist_ok=True)
+                with tempfile.NamedTemporaryFile("wb", dir=self.directory, suffix=".workspace", delete=False) as fh:
+                    pickle.dump(ws, fh, protocol=pickle.HIGHEST_PROTOCOL)
+                scratch = Path(fh.name)
+                pool = _start_pool(workers, str(scratch))
+            if pool is None:
                 for i in todo:
-                    _solve_to_file(self.targets[i], str(self.path_of(i)), ws)
+                    _solve_to_file(self.targets[i], str(self.path_of(i)), self.workspace)
                     bar.update()
             else:
-                # spawn: no inherited threads or locks from the parent, the same on every OS.
-                context = multiprocessing.get_context("spawn")
-                with ProcessPoolExecutor(workers, mp_context=context, initializer=_set_workspace,
-                                         initargs=(ws,)) as pool:
+                with pool:
                     jobs = [pool.submit(_solve_to_file, self.targets[i], str(self.path_of(i))) for i in todo]
                     for future in as_completed(jobs):
                         future.result()
                         bar.update()
         finally:
             bar.close()
+            if scratch is not None:
+                scratch.unlink(missing_ok=True)
         return time.perf_counter() - t0
 
     def nearest_index(self, target) -> int:

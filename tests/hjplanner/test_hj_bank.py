@@ -1,5 +1,8 @@
 """ValueFunctionBank (lattice, disk cache, processes) and OnDemandPlanner (LRU)."""
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -105,3 +108,26 @@ def test_readme_bank_command_is_the_car_platforms_bank(tmp_path, paper):
                                  reverse=True)
     assert from_cli.directory == from_car.directory
     np.testing.assert_array_equal(from_cli.targets, from_car.targets)
+
+
+UNGUARDED = """
+import arenas
+from hjplanner import ValueFunctionBank
+bank = ValueFunctionBank(arenas.load("paper"), 40.0, rho=15, h=3.0, ntheta=16, clearance=4, cache_dir={cache!r})
+bank.build(workers=2, progress=False)
+print("built", len(bank.missing()))
+"""
+
+
+def test_bank_from_an_unguarded_script_is_built_here_not_hung(tmp_path):
+    """A script that builds a bank without ``if __name__ == "__main__":`` makes every spawned
+    worker fail; the build then runs in the calling process instead of waiting for ever (it
+    used to block on the dead worker's start-up pipe)."""
+    script = tmp_path / "unguarded.py"
+    script.write_text(UNGUARDED.format(cache=str(tmp_path / "cache")))
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300,
+                          cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.splitlines()[-1] == "built 0"
+    assert "could not start" in done.stderr
+    assert not list((tmp_path / "cache").rglob("*.workspace"))  # the scratch file is removed
