@@ -115,10 +115,26 @@ class ValueFunction:
                      cubic: bool = True, lenient: bool = False) -> np.ndarray:
         """φ at poses (n,) whose clearance the caller has already decided.
 
-        As :meth:`__call__`, with ``certified`` (n,) bool in place of
+        As :meth:`__call__`, with ``certified`` in place of
         :meth:`certified_clear`: +inf where it is False.  For callers that
-        certify positions on the way (the path search, whose arcs end on
-        their last certified sample).
+        certify positions on the way (a path search whose arcs end on their
+        last certified sample).
+
+        Parameters
+        ----------
+        x, y : numpy.ndarray
+            (n,) positions (length unit of the grid).
+        theta : numpy.ndarray
+            (n,) headings, radians.
+        certified : numpy.ndarray
+            (n,) bool: the position keeps the clearance from every wall.
+        cubic, lenient : bool
+            As in :meth:`__call__`.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n,) φ, +inf where not certified, unreachable or outside the grid.
         """
         out = _sweep.interpolate(self._phi, self.free, np.ascontiguousarray(certified), self.grid.x0,
                                  self.grid.y0, self.grid.h, np.ascontiguousarray(x),
