@@ -60,9 +60,14 @@ def steering(vf, pose: ArrayLike, dead_band: float | None = None, direction: int
         raise PlanningError(f"dead_band must be >= 0, got {dead_band}")
     if direction not in (1, -1):
         raise PlanningError(f"direction must be 1 (forward) or -1 (reverse), got {direction!r}")
-    if not np.isfinite(vf(*p)):
+    # φ at the pose and at θ ± Δθ/2 in one evaluation: the centred difference of vf.dtheta
+    step = vf.grid.dtheta / 2
+    here, plus, minus = vf(p[0], p[1], np.array([p[2], p[2] + step, p[2] - step]))
+    if not np.isfinite(here):
         return 0
-    d_theta = float(vf.dtheta(*p))
+    with np.errstate(invalid="ignore"):
+        d_theta = float((plus - minus) / (2 * step))
+    d_theta = 0.0 if np.isnan(d_theta) else d_theta
     # Off the dead band -- or with one side of the heading unreachable (φ_θ
     # infinite) -- turn towards decreasing φ.
     if np.isfinite(d_theta) and abs(d_theta) <= dead_band:
