@@ -34,7 +34,7 @@ import numpy as np
 
 from ._grid import Grid, make_grid
 from .errors import PlanningError
-from .solver import SolverOptions, Workspace, prepare, solve_in, target_is_free
+from .solver import SolverOptions, Workspace, prepare, solve_in, target_is_free, window
 from .value_function import ValueFunction
 
 __all__ = ["ValueFunctionBank", "OnDemandPlanner", "lattice_targets", "default_cache_dir", "cache_info",
@@ -365,19 +365,63 @@ class OnDemandPlanner:
         self.hits = 0
         self.misses = 0
 
-    def get(self, target) -> ValueFunction:
-        """Value function for ``target``, solved unless cached."""
+    def get(self, target, near=None, margin: float | None = None) -> ValueFunction:
+        """Value function for ``target``, solved unless cached.
+
+        Parameters
+        ----------
+        target : (float, float)
+            The target point.
+        near : (float, float), optional
+            A point the value function must serve (the car's position).  With
+            ``margin``, the solve covers only the rectangle around ``target`` and
+            ``near`` widened by ``margin`` on every side (see
+            :func:`hjplanner.solver.window`): the paths found stay in it.  The whole
+            grid is solved when that rectangle covers most of it.
+        margin : float, optional
+            Width added around the rectangle (length unit), > 0.
+
+        Returns
+        -------
+        ValueFunction
+            On the window's grid when one was used (``meta["window"]``: its
+            ``[x0, x1, y0, y1]``).
+        """
         t = np.asarray(target, dtype=float).reshape(-1)
         if t.shape != (2,) or not np.isfinite(t).all():
             raise PlanningError(f"target must be a finite point (x, y), got {target!r}")
-        key = tuple(np.round(t / self.resolution).astype(np.int64))
+        bounds = None if near is None or margin is None else self._window(t, near, margin)
+        key = (tuple(np.round(t / self.resolution).astype(np.int64)), bounds)
         if key in self._cache:
             self.hits += 1
             self._cache.move_to_end(key)
             return self._cache[key]
         self.misses += 1
-        vf = solve_in(self.workspace, tuple(t))
+        ws = self.workspace if bounds is None else window(self.workspace, *bounds)
+        vf = solve_in(ws, tuple(t))
+        if bounds is not None:
+            g = ws.grid
+            vf.meta["window"] = [g.x0, g.x0 + (g.nx - 1) * g.h, g.y0, g.y0 + (g.ny - 1) * g.h]
         self._cache[key] = vf
         while len(self._cache) > self.maxsize:
             self._cache.popitem(last=False)
         return vf
+
+    #: A window covering more than this share of the grid's nodes is not worth it: the whole grid is solved.
+    WINDOW_SHARE = 0.8
+
+    def _window(self, target: np.ndarray, near, margin: float) -> tuple[int, int, int, int] | None:
+        """Node index bounds ``(i0, i1, j0, j1)`` of the window, or None for the whole grid."""
+        p = np.asarray(near, dtype=float).reshape(-1)
+        if p.shape != (2,) or not np.isfinite(p).all():
+            raise PlanningError(f"near must be a finite point (x, y), got {near!r}")
+        if not (isinstance(margin, (int, float)) and margin > 0 and np.isfinite(margin)):
+            raise PlanningError(f"margin must be a positive length, got {margin!r}")
+        g = self.workspace.grid
+        lo = (np.minimum(target, p) - margin - (g.x0, g.y0)) / g.h
+        hi = (np.maximum(target, p) + margin - (g.x0, g.y0)) / g.h
+        i0, j0 = (max(0, int(np.floor(v))) for v in lo)
+        i1, j1 = min(g.nx, int(np.ceil(hi[0])) + 1), min(g.ny, int(np.ceil(hi[1])) + 1)
+        if i1 - i0 < 4 or j1 - j0 < 4 or (i1 - i0) * (j1 - j0) > self.WINDOW_SHARE * g.nx * g.ny:
+            return None
+        return i0, i1, j0, j1

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -56,6 +56,24 @@ class Workspace:
     options: SolverOptions
     ctrl: list
     stencils: dict
+
+
+def window(ws: Workspace, i0: int, i1: int, j0: int, j1: int) -> Workspace:
+    """``ws`` restricted to the nodes ``[i0, i1) x [j0, j1)`` of its grid.
+
+    A solve in the window finds the shortest paths that stay in it (the feet
+    of their stencils do; an arc may bulge out between its ends, clear of the
+    walls as in the whole grid): an upper bound of φ, equal to it wherever
+    the optimal path keeps inside.  Its cost is that of the window's nodes.
+    """
+    g = ws.grid
+    if not (0 <= i0 < i1 <= g.nx and 0 <= j0 < j1 <= g.ny and i1 - i0 >= 4 and j1 - j0 >= 4):
+        raise PlanningError(f"window [{i0}, {i1}) x [{j0}, {j1}) is not within the {g.nx} x {g.ny} grid "
+                            "(at least 4 x 4 nodes)")
+    grid = Grid(g.x0 + i0 * g.h, g.y0 + j0 * g.h, g.h, i1 - i0, j1 - j0, g.ntheta)
+    stencils = dict(ws.stencils, adm=np.ascontiguousarray(ws.stencils["adm"][:, i0:i1, j0:j1]))
+    return replace(ws, grid=grid, distance=np.ascontiguousarray(ws.distance[i0:i1, j0:j1]),
+                   free=np.ascontiguousarray(ws.free[i0:i1, j0:j1]), stencils=stencils)
 
 
 def prepare(domain, rho: float, h: float, ntheta: int, *, clearance: float = 0.0, reverse: bool = False,

@@ -87,6 +87,11 @@ class DrivingOptions:
         Arc lengths of the gradient manoeuvre: straight back, then forward at full lock.
     bang_step : float
         Distance between decisions of the bang-bang steering, cm.
+    window : float, optional
+        On-demand planner: solve each target's value function only in the rectangle of
+        the car and the target widened by this much on every side, cm (the paths stay in
+        it); the whole map when the car cannot reach the target inside it, or when it
+        loses the value function on the way. None solves on the whole map.
     """
 
     planner: str = "on-demand"
@@ -102,6 +107,7 @@ class DrivingOptions:
     manoeuvre_reverse: float = 5.0
     manoeuvre_forward: float = 8.0
     bang_step: float = 2.0
+    window: float | None = 30.0
 
     def __post_init__(self):
         if self.planner not in PLANNERS:
@@ -113,6 +119,9 @@ class DrivingOptions:
                 raise SearchError(f"driving option {key} must be a positive number; got {val!r}")
         if int(self.ntheta) < 8:
             raise SearchError(f"ntheta must be at least 8 headings; got {self.ntheta!r}")
+        if self.window is not None and (not isinstance(self.window, (int, float)) or not np.isfinite(self.window)
+                                        or self.window <= 0):
+            raise SearchError(f"driving option window must be a positive number of cm or None; got {self.window!r}")
 
 
 class CarPlatform(Platform):
@@ -318,7 +327,7 @@ class CarPlatform(Platform):
         o, tb = self.options, self.testbed
         goal = self._standable(np.asarray(target, dtype=float))
         try:
-            vf = self._value_function(goal)
+            vf = self._value_for(goal)
         except PlanningError as exc:
             raise UnreachableTarget(target, f"no value function for target ({target[0]:.1f}, "
                                     f"{target[1]:.1f}) cm: {exc}") from None
@@ -343,7 +352,7 @@ class CarPlatform(Platform):
             if self.lidar is not None and (replan or self._since_scan >= SCAN_EVERY) and self._sense():
                 # the believed walls changed: the target's value function on the new map
                 try:
-                    vf = self._value_function(self._standable(np.asarray(target, dtype=float)))
+                    vf = self._value_for(self._standable(np.asarray(target, dtype=float)))
                 except (PlanningError, UnreachableTarget) as exc:
                     raise UnreachableTarget(target, f"target ({target[0]:.1f}, {target[1]:.1f}) cm is "
                                             f"behind walls the car has just seen: {exc}") from None
@@ -351,6 +360,10 @@ class CarPlatform(Platform):
                 budget = max(budget, driven + 2.0 * float(vf(*est)) + 60.0) if np.isfinite(vf(*est)) else budget
             if replan:
                 gear_at = self._replan(vf, est)
+                if gear_at is None and "window" in vf.meta:
+                    vf = self._value_function(vf.target)   # drifted out of the window: the whole map
+                    est = self._virtual(vf, tb.estimate)
+                    gear_at = self._replan(vf, est)
                 if gear_at is None:
                     if not self._unstick(vf):
                         self._event("lost the value function: measuring where the car stands")
@@ -370,6 +383,18 @@ class CarPlatform(Platform):
             if new_dist > dist and dist < 3 * o.stop_tol:
                 break  # past the closest approach: stop rather than loop around
             dist = new_dist
+
+    def _value_for(self, goal: np.ndarray):
+        """The value function the car drives to `goal` with. On demand with a `window`:
+        solved in the rectangle of the car and the goal widened by the window, unless the
+        car's pose cannot reach the goal inside it; then on the whole map."""
+        o = self.options
+        if o.planner == "bank" or o.window is None:
+            return self._value_function(goal)
+        vf = self.planner.get(goal, near=self.testbed.estimate[:2], margin=o.window)
+        if "window" not in vf.meta or np.isfinite(vf(*self._virtual(vf, self.testbed.estimate))):
+            return vf
+        return self._value_function(goal)
 
     def _sense(self) -> bool:
         """One scan of the true walls from the true pose, kept for the strategy; on an
@@ -562,7 +587,7 @@ CAR_BOUNDS = {
     "stop_tol": Bound(0.01, 100, unit="cm"), "dwell": Bound(0.01, 3600, unit="s"),
     "dead_band": Bound(0, 100, none=True), "manoeuvre_reverse": Bound(0.1, 1000, unit="cm"),
     "manoeuvre_forward": Bound(0.1, 1000, unit="cm"), "bang_step": Bound(0.1, 1000, unit="cm"),
-    "length": Bound(0.5, 100, unit="cm"), "width": Bound(0.5, 100, unit="cm"), "mass": Bound(0.1, 1e5, unit="g"),
+    "window": Bound(1, 1000, none=True, unit="cm"), "length": Bound(0.5, 100, unit="cm"), "width": Bound(0.5, 100, unit="cm"), "mass": Bound(0.1, 1e5, unit="g"),
     "speed": Bound(0.1, 1000, unit="cm/s"), "rho": Bound(0.5, 1000, unit="cm"), "lateral_grip": Bound(0.01, 1e4),
     "steer_noise": Bound(0, 10), "speed_noise": Bound(0, 10), "noise_tau": Bound(1e-3, 1e3, unit="s"),
     "servo_tau": Bound(1e-3, 1e3, unit="s"), "dt": Bound(1e-4, 0.1, unit="s"), "px_per_mm": Bound(0.1, 4),

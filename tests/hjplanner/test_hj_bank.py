@@ -96,6 +96,32 @@ def test_on_demand_planner_lru():
         planner.get((5.0, 5.0))
 
 
+def test_on_demand_window(paper):
+    """A window solve is an upper bound of the whole-map φ, equal to it (within the sweeps'
+    stopping tolerance) where the optimal path keeps inside, and cheaper; a window covering
+    most of the grid is the whole grid."""
+    planner = OnDemandPlanner(paper, rho=15.0, h=3.0, ntheta=24, clearance=4.0, reverse=True, maxsize=8)
+    target, car = (70.0, 30.0), (40.0, 40.0)
+    full = planner.get(target)
+    win = planner.get(target, near=car, margin=30.0)
+    x0, x1, y0, y1 = win.meta["window"]
+    assert (x0, y0) == (9.0, 0.0) and x1 < 110 and y1 < 80
+    assert win.values.size < 0.5 * full.values.size
+    rng = np.random.default_rng(0)
+    x, y, th = rng.uniform(x0, x1, 5000), rng.uniform(y0, y1, 5000), rng.uniform(0, 2 * np.pi, 5000)
+    a, b = full(x, y, th), win(x, y, th)
+    tol = 0.05 * 3.0 * full.meta["sweeps"]          # sweep_tol * h per sweep, at most
+    assert not (np.isfinite(b) & ~np.isfinite(a)).any()
+    assert (b[np.isfinite(b)] >= a[np.isfinite(b)] - tol).all()
+    assert abs(float(win(*car, 0.3)) - float(full(*car, 0.3))) < tol
+    assert planner.get(target, near=(70.0, 130.0), margin=70.0) is full   # all of the grid: the whole
+    assert "window" not in full.meta
+    with pytest.raises(PlanningError, match="near"):
+        planner.get(target, near=(np.nan, 1.0), margin=30.0)
+    with pytest.raises(PlanningError, match="margin"):
+        planner.get(target, near=car, margin=-1.0)
+
+
 def test_readme_bank_command_is_the_car_platforms_bank(tmp_path, paper):
     """`hjplanner bank` as in the README and the car platform's planner=bank find the same folder."""
     from hjplanner.cli import _domain, build_parser

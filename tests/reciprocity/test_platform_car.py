@@ -170,3 +170,22 @@ def test_driving_options_are_validated():
         DrivingOptions(replan_every=0)
     with pytest.raises(r.SearchError, match="cannot carry out Move"):
         CarPlatform.execute(object.__new__(CarPlatform), r.Move([1.0, 1.0]))
+
+
+def test_window_falls_back_to_the_whole_map_behind_a_long_wall():
+    """The on-demand planner solves in the rectangle of the car and the target (plus
+    `window`); when the only way lies outside it (round a long wall), the car's value
+    function is the whole map's, and the car still gets there."""
+    walled = arenas.Arena.from_polygons([[0, 0], [100, 0], [100, 100], [0, 100]],
+                                        [[[48, 0], [52, 0], [52, 80], [48, 80]]], name="walled",
+                                        source=(75.0, 15.0), strength=500.0, start=(25.0, 15.0, 0.0))
+    world = r.PoissonWorld(walled, h=1.5)
+    car = make_car_platform(world, px_per_mm=0.5)
+    car.reset([25.0, 15.0, 0.0], world, np.random.default_rng(0))
+    assert car.options.window == 30.0
+    near = car._value_for(np.array([25.0, 45.0]))            # same side: the window serves
+    assert "window" in near.meta and near.values.size < 0.6 * car.planner.get((25.0, 45.0)).values.size
+    around = car._value_for(np.array([75.0, 15.0]))          # behind the wall: the whole map
+    assert "window" not in around.meta
+    car.execute(Measure(np.array([75.0, 15.0])))
+    assert np.hypot(*(car.testbed.car.pose[:2] - (75.0, 15.0))) < car.options.stop_tol + 1.5
