@@ -150,7 +150,8 @@ class Bound:
             kind = "a whole number" if self.integer else "a number"
             raise SearchError(f"{where}{key} must be {allowed}{kind} in {'(' if self.lo_open else '['}"
                               f"{_fmt(self.lo)}, {_fmt(self.hi)}{')' if self.hi_open else ']'}"
-                              f"{' ' + self.unit if self.unit else ''}; got {value!r}")
+                              f"{' ' + self.unit if self.unit else ''}{' (or null for none)' if self.none else ''}"
+                              f"; got {value!r}")
         if self.integer:
             return whole(value, key, int(self.lo), int(self.hi), where=where)
         return number(value, key, self.lo, self.hi, where=where, unit=self.unit,
