@@ -119,6 +119,13 @@ def arcs_are_clear(distance: np.ndarray, grid: Grid, clearance: float, poses: np
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _sample_count(longest, h):
+    """Clearance samples per arc, both ends included, when the longest arc is ``longest``:
+    as many as :func:`arc_samples` takes at :func:`sample_spacing`."""
+    return max(2, int(np.ceil(longest / (SAMPLE_FRACTION * h) - 1e-9)) + 1)
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _arc_is_clear(distance, x0, y0, h, need, x, y, th, u, v, s, k, rho):
     """Whether the k samples of one arc (fractions of ``np.linspace(0, 1, k)``) all have a
     certified wall distance of at least ``need``."""
@@ -134,7 +141,7 @@ def _arc_is_clear(distance, x0, y0, h, need, x, y, th, u, v, s, k, rho):
 @njit(cache=True, nogil=True)
 def _arcs_clear(distance, x0, y0, h, clearance, poses, u, v, s, rho):
     """:func:`arcs_are_clear`, compiled: as many samples on every arc as on the longest."""
-    k = max(2, int(np.ceil(np.max(s) / (SAMPLE_FRACTION * h) - 1e-9)) + 1)  # as arc_samples
+    k = _sample_count(np.max(s), h)
     out = np.empty(poses.shape[0], dtype=np.bool_)
     for n in range(poses.shape[0]):
         out[n] = _arc_is_clear(distance, x0, y0, h, clearance + 0.5 * (s[n] / (k - 1)), poses[n, 0], poses[n, 1],
@@ -168,7 +175,7 @@ def arcs_from(pose, u, v, s, rho, distance, x0, y0, h, clearance):
         (m,) bool: the arc stays certified at ``clearance`` all along.
     """
     m = u.shape[0]
-    k = max(2, int(np.ceil(np.max(s) / (SAMPLE_FRACTION * h) - 1e-9)) + 1)  # as arc_samples
+    k = _sample_count(np.max(s), h)
     ends = np.empty((m, 3))
     clear = np.empty(m, dtype=np.bool_)
     for c in range(m):
