@@ -20,7 +20,7 @@ from arenas import Arena, as_points
 
 from ..errors import ReciprocityError
 from .locate import TriangleLocator
-from .disk_cache import cache_dir, read_arrays, write_arrays
+from .disk_cache import read_cached, write_cached
 from .mesh import cached_mesh
 
 if TYPE_CHECKING:
@@ -423,29 +423,38 @@ class GreenSolver:
         """
         z = as_points(z, "observation point")[0]
         name = f"G(., ({z[0]:.4g}, {z[1]:.4g}))"
-        path = self._green_path(z) if cached else None
-        if path is not None:
-            data = read_arrays(path, ("dofs",))
-            if data is not None and data["dofs"].shape == (self.basis.N,):
+        key = self._green_key(z) if cached else None
+        if key is not None:
+            data = read_cached("greens", key, ("dofs",), lambda arrays: self._check_green(arrays["dofs"], z))
+            if data is not None:
                 return Field(self, data["dofs"], name)
         dofs = self.solve(self.point_sources(z))
-        if path is not None:
-            write_arrays(path, keep=GREEN_CACHE_SIZE, dofs=dofs)
+        if key is not None:
+            write_cached("greens", key, keep=GREEN_CACHE_SIZE, dofs=dofs)
         return Field(self, dofs, name)
 
-    def _green_path(self, z: np.ndarray):
-        """File of ``G(·, z)`` in the disk cache, or None when the cache is off."""
-        folder = cache_dir()
-        if folder is None:
-            return None
+    def _green_key(self, z: np.ndarray) -> str:
+        """Everything ``G(·, z)`` is computed from: the key of its disk-cache entry."""
         import scipy
         import skfem
         # the libraries' versions: an upgrade must not leave results depending on a warm cache
-        key = hashlib.sha256(f"{GREEN_FORMAT}|{scipy.__version__}|{skfem.__version__}|{self.order}|"
-                             f"{self.walls}|{self.arena.circle!r}".encode())
-        for a in (self._mesh1.p, self._mesh1.t, z):
-            key.update(np.ascontiguousarray(a).tobytes())
-        return folder / "greens" / f"{key.hexdigest()[:32]}.npz"
+        mesh = hashlib.sha256()
+        for a in (self._mesh1.p, self._mesh1.t):
+            mesh.update(np.ascontiguousarray(a).tobytes())
+        return (f"green|{GREEN_FORMAT}|scipy {scipy.__version__}|skfem {skfem.__version__}|P{self.order}|"
+                f"{self.walls}|{self.arena.circle!r}|mesh {mesh.hexdigest()}|z {float(z[0])!r},{float(z[1])!r}")
+
+    def _check_green(self, dofs: np.ndarray, z: np.ndarray) -> None:
+        """A cached ``G(·, z)`` must be N finite float64 dof values of this solver, not
+        negative beyond round-off (the maximum principle), and largest near `z`."""
+        if dofs.dtype != np.float64 or dofs.shape != (self.basis.N,) or not np.isfinite(dofs).all():
+            raise ValueError(f"dofs of {dofs.dtype} {dofs.shape}, not {self.basis.N} finite float64 values")
+        top = float(dofs.max())
+        if top <= 0 or dofs.min() < -1e-8 * top:
+            raise ValueError("not a Green's function: not positive")
+        peak = self.basis.doflocs[:, int(np.argmax(dofs))]
+        if np.hypot(*(peak - z)) > 3.0 * self.h:
+            raise ValueError(f"not G(., z): its peak is {np.hypot(*(peak - z)):.3g} cm from z")
 
     def greens(self, points) -> np.ndarray:
         """Dof values of ``G(·, z_k)`` for many points at once, shape (n_dofs, n)."""

@@ -17,7 +17,7 @@ import numpy as np
 from arenas import Arena
 
 from ..errors import MeshError
-from .disk_cache import cache_dir, read_arrays, write_arrays
+from .disk_cache import read_cached, write_cached
 
 if TYPE_CHECKING:
     import skfem
@@ -170,18 +170,34 @@ def cached_mesh(arena: Arena, h: float, *, grading: float | None = 0.5) -> skfem
     """
     import skfem
     import triangle
-    folder = cache_dir()
-    if folder is None:
-        return mesh_free_region(arena, h, grading=grading)
-    key = hashlib.sha256()
-    key.update(f"{MESH_FORMAT}|{triangle.__version__ if hasattr(triangle, '__version__') else ''}|"
-               f"{float(h)!r}|{grading!r}|{arena.circle!r}".encode())
+    rings = hashlib.sha256()
     for ring in (arena.boundary, *arena.obstacles):
-        key.update(np.ascontiguousarray(ring, dtype=float).tobytes())
-    path = folder / "meshes" / f"{key.hexdigest()[:32]}.npz"
-    data = read_arrays(path, ("p", "t"))
+        rings.update(np.ascontiguousarray(ring, dtype=float).tobytes())
+        rings.update(b"|")
+    version = getattr(triangle, "__version__", "")
+    key = (f"mesh|{MESH_FORMAT}|triangle {version}|h {float(h)!r}|grading {grading!r}|{arena.circle!r}|"
+           f"rings {rings.hexdigest()}")
+    data = read_cached("meshes", key, ("p", "t"), lambda arrays: _check_mesh_arrays(arena, arrays))
     if data is not None:
         return skfem.MeshTri(np.ascontiguousarray(data["p"]), np.ascontiguousarray(data["t"]))
     mesh = mesh_free_region(arena, h, grading=grading)
-    write_arrays(path, p=mesh.p, t=mesh.t)
+    write_cached("meshes", key, p=mesh.p, t=mesh.t)
     return mesh
+
+
+def _check_mesh_arrays(arena: Arena, arrays: dict) -> None:
+    """A cached mesh must be finite float64 points inside the arena's bounding box and
+    int triangles of positive area indexing them."""
+    p, t = arrays["p"], arrays["t"]
+    if p.dtype != np.float64 or p.ndim != 2 or p.shape[0] != 2 or p.shape[1] < 3 or not np.isfinite(p).all():
+        raise ValueError(f"points of {p.dtype} {p.shape}, not (2, n) finite float64")
+    if t.dtype.kind not in "iu" or t.ndim != 2 or t.shape[0] != 3 or t.shape[1] < 1:
+        raise ValueError(f"triangles of {t.dtype} {t.shape}, not (3, m) integers")
+    if t.min() < 0 or t.max() >= p.shape[1]:
+        raise ValueError("triangles index points that do not exist")
+    lo, hi = arena.boundary.min(axis=0), arena.boundary.max(axis=0)
+    tol = 1e-6 * float(np.max(hi - lo))
+    if (p.min(axis=1) < lo - tol).any() or (p.max(axis=1) > hi + tol).any():
+        raise ValueError("points outside the arena")
+    if (triangle_areas(p.T, t.T) <= 0).any():
+        raise ValueError("triangles of zero area")
