@@ -24,7 +24,8 @@ from yaml.nodes import MappingNode, ScalarNode
 
 from .errors import ArenaError
 
-__all__ = ["MAX_FILE_BYTES", "MAX_ALIASES", "MAX_DEPTH", "MAX_EXPANDED_NODES", "check_output", "read_text", "load_yaml", "parse_yaml"]
+__all__ = ["MAX_FILE_BYTES", "MAX_ALIASES", "MAX_DEPTH", "MAX_EXPANDED_NODES", "check_output", "read_text",
+           "load_yaml", "parse_yaml", "real_folder", "atomic_output"]
 
 #: Largest user file read, bytes (arena, scenario and campaign files are a few kB).
 MAX_FILE_BYTES = 1_000_000
@@ -216,3 +217,77 @@ def check_output(path, label: str, *, folder: bool = False, error: type[Exceptio
         raise error(f"{label} {str(path)!r}: cannot write into {str(probe)!r} "
                     f"({exc.strerror or exc})") from None
     return p
+
+
+def real_folder(root, *parts: str, label: str, error: type[Exception] = ArenaError):
+    """The folder ``root/parts...``, made where missing, never through a symbolic link.
+
+    `root` is the user's own output folder (whatever it is); every folder below it that
+    the toolkit writes into must be a real folder, so that a link planted inside an output
+    folder (``report -> /home/someone``) never sends a write or a clean-up elsewhere.
+
+    Parameters
+    ----------
+    root : path-like
+        The output folder (must exist).
+    *parts : str
+        Names of the folders below it.
+    label : str
+        How messages name the output (e.g. ``"campaign folder 'runs/x'"``).
+    error : type
+        Exception class raised on a problem.
+
+    Returns
+    -------
+    Path
+    """
+    path = Path(root)
+    for part in parts:
+        path = path / part
+        try:
+            os.mkdir(path, 0o777)
+        except FileExistsError:
+            pass
+        except OSError as exc:
+            raise error(f"cannot make {str(path)!r} in {label}: {exc.strerror or exc}") from None
+        st = os.lstat(path)
+        if stat.S_ISLNK(st.st_mode) or not stat.S_ISDIR(st.st_mode):
+            what = "a symbolic link" if stat.S_ISLNK(st.st_mode) else "not a folder"
+            raise error(f"{str(path)!r} in {label} is {what}; the folders inside an output folder must be "
+                        "real folders (remove it, or choose another output folder)")
+    return path
+
+
+def atomic_output(path, *, error: type[Exception] = ArenaError):
+    """A context manager: write to the temporary file it yields, which then replaces `path`.
+
+    The temporary file is made anew (``O_EXCL``) beside `path` and renamed over it, so a
+    symbolic link or a file planted at `path` is replaced, never written through, a reader
+    never sees half a file, and a failure leaves `path` as it was and no temporary file.
+
+    Examples
+    --------
+    >>> with atomic_output(out / "figure.png") as tmp:            # doctest: +SKIP
+    ...     fig.savefig(tmp, format="png")
+    """
+    import contextlib
+    import tempfile
+
+    @contextlib.contextmanager
+    def _write():
+        target = Path(path)
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+        except OSError as exc:
+            raise error(f"cannot write {str(target)!r}: {exc.strerror or exc}") from None
+        os.close(fd)
+        try:
+            yield Path(tmp)
+            os.replace(tmp, target)
+        except OSError as exc:
+            raise error(f"cannot write {str(target)!r}: {exc.strerror or exc}") from None
+        finally:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+
+    return _write()

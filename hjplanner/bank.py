@@ -16,12 +16,14 @@ from __future__ import annotations
 
 import hashlib
 import json
+import contextlib
 import multiprocessing
 import os
 import pickle
 import re
 import shutil
-import tempfile
+import stat
+import threading
 import time
 import warnings
 from collections import OrderedDict
@@ -40,7 +42,7 @@ from .value_function import ValueFunction
 __all__ = ["ValueFunctionBank", "OnDemandPlanner", "lattice_targets", "default_cache_dir", "cache_info",
            "clear_cache"]
 
-CACHE_VERSION = 2
+CACHE_VERSION = 3
 MANIFEST = "bank.json"
 #: Files of the first cache layout (float64 values, one flat folder): unusable now, removed by clear_cache.
 _LEGACY = re.compile(r"^[0-9a-f]{20}_\d{4}_.*\.npz$")
@@ -102,33 +104,62 @@ def lattice_targets(domain, spacing: float, *, h: float = 1.0, clearance: float 
 _WORKSPACE: Workspace | None = None
 
 
-def _set_workspace(path: str) -> None:
-    """Process-pool initializer: each worker reads the workspace once, from the file the
-    pool's owner wrote (see :func:`_start_pool`)."""
+def _set_workspace(args: tuple) -> None:
+    """Process-pool initializer: each worker prepares the workspace itself from the domain
+    and parameters its owner passed (nothing is read from a file, nothing unpickled from
+    disk), and dies with its owner."""
     global _WORKSPACE
-    with open(path, "rb") as fh:
-        _WORKSPACE = pickle.load(fh)
+    _die_with_parent()
+    domain, rho, h, ntheta, clearance, reverse, options = args
+    _WORKSPACE = prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options)
 
 
-#: Seconds a worker process may take to start (import numba, receive the workspace) before
+def _die_with_parent() -> None:
+    """End this process when the process that started it ends, even by ``kill -9``.
+
+    On Linux the kernel sends SIGKILL (``PR_SET_PDEATHSIG``); elsewhere, and in case the
+    parent died before the call, a daemon thread checks the parent once a second.
+    """
+    parent = os.getppid()
+    with contextlib.suppress(Exception):
+        import ctypes
+        import signal
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)      # PR_SET_PDEATHSIG
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        os._exit(1)
+
+    if os.getppid() != parent:
+        os._exit(1)
+    threading.Thread(target=watch, daemon=True, name="hjplanner-parent-watch").start()
+
+
+#: Seconds a worker process may take to start (import numba, prepare the workspace) before
 #: the bank is built in the calling process instead.
 STARTUP_TIMEOUT = 120.0
+#: Largest start-up message (bytes) sent to a worker: a larger domain is built in this
+#: process, so that no write to a worker's pipe can block on a worker that never reads it.
+MAX_STARTUP_BYTES = 48_000
 
 
-def _start_pool(workers: int, workspace_file: str) -> ProcessPoolExecutor | None:
-    """A pool of ``workers`` spawned processes, each holding the workspace pickled in
-    ``workspace_file``, once one of them has answered; None (with a warning) if a worker died
+def _start_pool(workers: int, initargs: tuple) -> ProcessPoolExecutor | None:
+    """A pool of ``workers`` spawned processes, each preparing the workspace from
+    ``initargs``, once one of them has answered; None (with a warning) if a worker died
     or did not answer within :data:`STARTUP_TIMEOUT`.
 
     A spawned worker first runs the caller's main module again.  A script that builds a bank
     outside ``if __name__ == "__main__":`` makes that worker fail; the bank is then built in
-    this process.  The workspace travels as a file name, not in the start-up message: a
-    message larger than a pipe's buffer would block this process for ever on a worker that
-    died before reading it.
+    this process.  The start-up message is at most :data:`MAX_STARTUP_BYTES`, less than a
+    pipe's buffer, so this process never blocks on a worker that died before reading it.
     """
+    if len(pickle.dumps(initargs, protocol=pickle.HIGHEST_PROTOCOL)) > MAX_STARTUP_BYTES:
+        return None
     # spawn: no inherited threads or locks from the parent, the same on every OS.
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
-                               initializer=_set_workspace, initargs=(workspace_file,))
+                               initializer=_set_workspace, initargs=(initargs,))
     ready = pool.submit(os.getpid)
     deadline = time.monotonic() + STARTUP_TIMEOUT
     while True:
@@ -140,9 +171,7 @@ def _start_pool(workers: int, workspace_file: str) -> ProcessPoolExecutor | None
                 continue
         except BrokenProcessPool:
             pass
-        for process in _pool_processes(pool):
-            process.terminate()
-        pool.shutdown(wait=False, cancel_futures=True)
+        _stop_pool(pool)
         warnings.warn("hjplanner: the bank's worker processes could not start (a script that builds a bank "
                       "must do so under `if __name__ == '__main__':`); building it in this process",
                       RuntimeWarning, stacklevel=3)
@@ -154,13 +183,73 @@ def _pool_processes(pool: ProcessPoolExecutor) -> list:
     return list((getattr(pool, "_processes", None) or {}).values())
 
 
+def _stop_pool(pool: ProcessPoolExecutor) -> None:
+    """Stop `pool` now: queued work cancelled, workers terminated and reaped."""
+    processes = _pool_processes(pool)
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        with contextlib.suppress(Exception):
+            process.terminate()
+    for process in processes:
+        with contextlib.suppress(Exception):
+            process.join(5.0)
+
+
+#: Temporary files of a bank folder: ``.NNNN.npz.<pid>.tmp``, removed when their writer is gone.
+_TMP = re.compile(r"^\.(\d{4})\.npz\.(\d+)\.tmp$")
+
+
 def _solve_to_file(target, path: str, ws: Workspace | None = None) -> str:
-    """Solve one target and save it atomically (in a worker process, or here with ``ws``)."""
+    """Solve one target and save it atomically (in a worker process, or here with ``ws``);
+    the temporary file is removed on every exit path (a full disk, an interrupt)."""
     vf = solve_in(ws or _WORKSPACE, tuple(target))
-    tmp = f"{path}.{os.getpid()}.tmp"
-    vf.save(tmp)
-    os.replace(tmp, path)
+    final = Path(path)
+    tmp = final.with_name(f".{final.name}.{os.getpid()}.tmp")
+    try:
+        vf.save(tmp)
+        os.replace(tmp, final)
+    finally:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
     return path
+
+
+def _remove_orphan_tmp(folder: Path) -> None:
+    """Remove the temporary files of `folder` whose writing process is gone (killed)."""
+    with contextlib.suppress(OSError):
+        for entry in os.scandir(folder):
+            m = _TMP.match(entry.name)
+            if m and entry.is_file(follow_symlinks=False) and not _alive(int(m.group(2))):
+                with contextlib.suppress(OSError):
+                    os.unlink(entry.path)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True
+    return True
+
+
+def check_cache_dir(folder: Path, label: str = "the value-function cache") -> Path:
+    """`folder` if a bank can be kept there: created if missing, a real folder (not a link)
+    that this process can write, else PlanningError naming it; checked before any work."""
+    import tempfile
+    try:
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        st = os.lstat(folder)
+        if not stat.S_ISDIR(st.st_mode):
+            raise PlanningError(f"{label} {str(folder)!r} is not a folder (or is a symbolic link); "
+                                "give a folder (HJPLANNER_CACHE, --cache or cache_dir=)")
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise PlanningError(f"{label} {str(folder)!r} cannot be written ({exc.strerror or exc}); "
+                            "give a writable folder (HJPLANNER_CACHE, --cache or cache_dir=)") from None
+    return folder
 
 
 class ValueFunctionBank:
@@ -195,6 +284,8 @@ class ValueFunctionBank:
                  reverse: bool = False, options: SolverOptions | None = None, cache_dir: str | Path | None = None,
                  memory: int = 8):
         options = options or SolverOptions()
+        self.cache_dir = Path(cache_dir).expanduser() if cache_dir is not None else default_cache_dir()
+        check_cache_dir(self.cache_dir)
         self.workspace = prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options)
         self.targets = _lattice(self.workspace.grid, self.workspace.free, spacing)
         if len(self.targets) == 0:
@@ -203,7 +294,8 @@ class ValueFunctionBank:
         self.params = dict(rho=float(rho), h=float(h), ntheta=int(ntheta), clearance=float(clearance),
                            reverse=bool(reverse), spacing=float(spacing), options=numerics)
         self.key = _digest(self.workspace.geometry, self.params)
-        self.cache_dir = Path(cache_dir).expanduser() if cache_dir is not None else default_cache_dir()
+        single = SolverOptions(**dict(options.as_dict(), threads=1))
+        self._initargs = (domain, float(rho), float(h), int(ntheta), float(clearance), bool(reverse), single)
         self._memory = OrderedDict()
         self._memory_size = int(memory)
 
@@ -217,56 +309,124 @@ class ValueFunctionBank:
         return self.directory / f"{index:04d}.npz"
 
     def missing(self) -> list[int]:
-        """Indices of targets not yet in the cache."""
-        return [i for i in range(len(self.targets)) if not self.path_of(i).exists()]
+        """Indices of targets without a good file in the cache (absent, or failing its
+        check: see :meth:`load`; a bad file is moved aside with a CacheWarning)."""
+        return [i for i in range(len(self.targets)) if self._read(i) is None]
+
+    def load(self, index: int) -> ValueFunction:
+        """The cached value function of target ``index``, checked; solved (and cached) when
+        absent or bad.
+
+        A file is used only when it is a regular file of this user (not a link, not a
+        FIFO), reads as a value function whose content matches its digest, and was solved
+        for this bank: its target, turning radius, clearance, grid and domain. Anything else
+        is moved into the bank's ``quarantine/`` with a
+        :class:`~arenas.cache_files.CacheWarning` and solved again.
+        """
+        vf = self._read(index)
+        if vf is None:
+            self._write_manifest()
+            _remove_orphan_tmp(self.directory)
+            path = self.path_of(index)
+            _solve_to_file(self.targets[index], str(path), self.workspace)
+            vf = ValueFunction.load(path)
+        return vf
+
+    def _read(self, index: int) -> ValueFunction | None:
+        """The file of target ``index`` if present and good, else None (a bad one moved aside)."""
+        from arenas.cache_files import CacheEntryError, open_owned, quarantine
+        path = self.path_of(index)
+        try:
+            open_owned(path).close()
+            vf = ValueFunction.load(path)
+            self._check_file(vf, index)
+        except FileNotFoundError:
+            return None
+        except (CacheEntryError, PlanningError) as exc:
+            quarantine(path, " ".join(str(exc).split()).replace(str(path), "the file")[:300])
+            return None
+        return vf
+
+    def _check_file(self, vf: ValueFunction, index: int) -> None:
+        """PlanningError unless `vf` is this bank's value function of target ``index``."""
+        g, mine = vf.grid, self.workspace.grid
+        meta = vf.meta
+        same = (vf.content_sha256 is not None
+                and np.array_equal(np.asarray(meta.get("target"), dtype=float), self.targets[index])
+                and (g.x0, g.y0, g.h, g.nx, g.ny, g.ntheta) == (mine.x0, mine.y0, mine.h, mine.nx, mine.ny,
+                                                                mine.ntheta)
+                and meta.get("rho") == self.params["rho"] and meta.get("clearance") == self.params["clearance"]
+                and bool(meta.get("reverse", False)) == self.params["reverse"]
+                and np.array_equal(vf.free, self.workspace.free))
+        if not same:
+            raise PlanningError(f"not this bank's value function of target {index} "
+                                f"({self.targets[index].tolist()}): another target, grid or domain")
 
     def _write_manifest(self) -> None:
-        self.directory.mkdir(parents=True, exist_ok=True)
-        manifest = dict(version=CACHE_VERSION, domain=self.workspace.geometry["name"], params=self.params,
-                        targets=self.targets.tolist())
-        (self.directory / MANIFEST).write_text(json.dumps(manifest, indent=1))
+        try:
+            self.directory.mkdir(mode=0o700, parents=True, exist_ok=True)
+            manifest = dict(version=CACHE_VERSION, domain=self.workspace.geometry["name"], params=self.params,
+                            targets=self.targets.tolist())
+            tmp = self.directory / f".{MANIFEST}.{os.getpid()}.tmp"
+            try:
+                tmp.write_text(json.dumps(manifest, indent=1))
+                os.replace(tmp, self.directory / MANIFEST)
+            finally:
+                with contextlib.suppress(OSError):
+                    tmp.unlink()
+        except OSError as exc:
+            raise PlanningError(f"cannot write the bank's files in {str(self.directory)!r}: "
+                                f"{exc.strerror or exc}") from None
 
     def build(self, workers: int | None = None, progress: bool = True) -> float:
         """Solve every missing target, in parallel processes; returns the wall time (s).
 
-        Each process sweeps with one thread and receives the prepared
-        workspace (grid, free space, clear stencils) once; ``workers``
-        defaults to the number of CPUs.  Progress is shown with a tqdm bar.
+        Each process sweeps with one thread and prepares the workspace (grid, free
+        space, clear stencils) once; ``workers`` defaults to the number of CPUs. Progress
+        is shown with a tqdm bar. The first file that cannot be written (a full disk)
+        stops the build: the work queued is cancelled, the workers are stopped, no
+        temporary file is left, and PlanningError names the cause.
         """
         from tqdm import tqdm
 
         t0 = time.perf_counter()
         self._write_manifest()
+        _remove_orphan_tmp(self.directory)
         todo = self.missing()
         workers = max(1, min(workers or os.cpu_count() or 1, len(todo) or 1))
-        ws = self.workspace
-        if workers > 1:
-            ws = Workspace(**{**vars(ws), "options": SolverOptions(**dict(ws.options.as_dict(), threads=1))})
         bar = tqdm(total=len(todo), desc=f"value functions ({self.key[:8]})", disable=not progress, unit="vf")
-        scratch = None
+        pool = None
         try:
-            pool = None
-            if workers > 1:
-                self.directory.mkdir(parents=True, exist_ok=True)
-                with tempfile.NamedTemporaryFile("wb", dir=self.directory, suffix=".workspace", delete=False) as fh:
-                    pickle.dump(ws, fh, protocol=pickle.HIGHEST_PROTOCOL)
-                scratch = Path(fh.name)
-                pool = _start_pool(workers, str(scratch))
+            pool = _start_pool(workers, self._initargs) if workers > 1 else None
             if pool is None:
                 for i in todo:
-                    _solve_to_file(self.targets[i], str(self.path_of(i)), self.workspace)
+                    self._solve(i)
                     bar.update()
             else:
-                with pool:
-                    jobs = [pool.submit(_solve_to_file, self.targets[i], str(self.path_of(i))) for i in todo]
-                    for future in as_completed(jobs):
-                        future.result()
-                        bar.update()
+                jobs = [pool.submit(_solve_to_file, self.targets[i], str(self.path_of(i))) for i in todo]
+                for future in as_completed(jobs):
+                    self._result(future)
+                    bar.update()
         finally:
             bar.close()
-            if scratch is not None:
-                scratch.unlink(missing_ok=True)
+            if pool is not None:
+                _stop_pool(pool)
         return time.perf_counter() - t0
+
+    def _solve(self, index: int) -> None:
+        try:
+            _solve_to_file(self.targets[index], str(self.path_of(index)), self.workspace)
+        except OSError as exc:
+            raise PlanningError(f"cannot write value function {self.path_of(index)}: {exc.strerror or exc}; "
+                                "the bank is incomplete (free some space and build it again)") from None
+
+    @staticmethod
+    def _result(future) -> None:
+        try:
+            future.result()
+        except OSError as exc:
+            raise PlanningError(f"cannot write value function {exc.filename or ''}: {exc.strerror or exc}; "
+                                "the bank is incomplete (free some space and build it again)") from None
 
     def nearest_index(self, target) -> int:
         """Index of the lattice target nearest to ``target``."""
@@ -276,16 +436,13 @@ class ValueFunctionBank:
         return int(np.argmin(np.hypot(*(self.targets - t).T)))
 
     def nearest(self, target) -> ValueFunction:
-        """Value function of the lattice target nearest to ``target`` (solved now if not cached)."""
+        """Value function of the lattice target nearest to ``target`` (from the cache when
+        a good file is there, else solved now: see :meth:`load`)."""
         index = self.nearest_index(target)
         if index in self._memory:
             self._memory.move_to_end(index)
             return self._memory[index]
-        path = self.path_of(index)
-        if not path.exists():
-            self._write_manifest()
-            _solve_to_file(self.targets[index], str(path), self.workspace)
-        vf = ValueFunction.load(path)
+        vf = self.load(index)
         self._memory[index] = vf
         while len(self._memory) > self._memory_size:
             self._memory.popitem(last=False)
@@ -295,47 +452,94 @@ class ValueFunctionBank:
         return len(self.targets)
 
 
+_BANK = re.compile(r"^[0-9a-f]{20}$")
+
+
+def _entries(root: Path) -> list[os.DirEntry]:
+    try:
+        return sorted(os.scandir(root), key=lambda e: e.name)
+    except (FileNotFoundError, NotADirectoryError):
+        return []
+    except OSError as exc:
+        raise PlanningError(f"cannot read the cache folder {str(root)!r}: {exc.strerror or exc}") from None
+
+
+def _manifest(folder: Path) -> dict | None:
+    """The bank.json of `folder`, or None when missing, unreadable or not a bank's."""
+    from arenas.cache_files import CacheEntryError, open_owned
+    try:
+        with open_owned(folder / MANIFEST, max_bytes=50_000_000) as fh:
+            manifest = json.loads(fh.read().decode("utf-8"))
+    except (OSError, CacheEntryError, ValueError):
+        return None
+    ok = isinstance(manifest, dict) and isinstance(manifest.get("params"), dict) \
+        and isinstance(manifest.get("targets"), list)
+    return manifest if ok else None
+
+
+def _size(folder: Path) -> int:
+    total = 0
+    for dirpath, _, files in os.walk(folder):        # os.walk never follows links by default
+        for f in files:
+            with contextlib.suppress(OSError):
+                total += os.lstat(os.path.join(dirpath, f)).st_size
+    return total
+
+
 def cache_info(cache_dir: str | Path | None = None) -> list[dict]:
     """The banks in a cache directory (default :func:`default_cache_dir`).
 
     Returns
     -------
     list of dict
-        One entry per bank folder: ``key``, ``domain``, ``params``,
-        ``files`` (value functions present), ``targets`` and ``bytes``; and,
-        if any, one entry with key ``"legacy"`` for files of the first cache
-        layout, which are no longer read.
+        One entry per bank folder: ``key``, ``domain``, ``params``, ``files`` (value
+        functions present), ``targets``, ``bytes`` and ``damaged`` (its ``bank.json`` is
+        missing or unreadable: cleared like the others); and, if any, one entry with key
+        ``"legacy"`` for files of the first cache layout, which are no longer read.
+        Symbolic links are never followed.
     """
     root = Path(cache_dir).expanduser() if cache_dir is not None else default_cache_dir()
     out = []
-    if not root.is_dir():
-        return out
-    for folder in sorted(p for p in root.iterdir() if (p / MANIFEST).is_file()):
-        manifest = json.loads((folder / MANIFEST).read_text())
-        files = list(folder.glob("*.npz"))
-        out.append(dict(key=folder.name, domain=manifest.get("domain"), params=manifest.get("params"),
-                        files=len(files), targets=len(manifest.get("targets", [])),
-                        bytes=sum(f.stat().st_size for f in folder.iterdir() if f.is_file())))
-    legacy = [p for p in root.iterdir() if p.is_file() and _LEGACY.match(p.name)]
+    legacy = []
+    for e in _entries(root):
+        if e.is_dir(follow_symlinks=False) and (_BANK.match(e.name) or (Path(e.path) / MANIFEST).exists()):
+            folder = Path(e.path)
+            manifest = _manifest(folder)
+            files = [f for f in os.scandir(folder) if f.name.endswith(".npz") and f.is_file(follow_symlinks=False)]
+            out.append(dict(key=e.name, domain=manifest.get("domain") if manifest else None,
+                            params=manifest["params"] if manifest else None, files=len(files),
+                            targets=len(manifest["targets"]) if manifest else None, bytes=_size(folder),
+                            damaged=manifest is None))
+        elif e.is_file(follow_symlinks=False) and _LEGACY.match(e.name):
+            legacy.append(e)
     if legacy:
         out.append(dict(key="legacy", domain=None, params=None, files=len(legacy), targets=None,
-                        bytes=sum(p.stat().st_size for p in legacy)))
+                        bytes=sum(e.stat(follow_symlinks=False).st_size for e in legacy), damaged=False))
     return out
 
 
 def clear_cache(cache_dir: str | Path | None = None) -> int:
     """Delete the banks (and legacy files) of a cache directory; returns the bytes freed.
 
-    Only hjplanner's own files are removed: bank folders holding a
-    ``bank.json`` and files of the first cache layout.
+    Only hjplanner's own entries are removed: bank folders (named by their key, or
+    holding a ``bank.json``, damaged or not) and files of the first cache layout. A
+    symbolic link named like a bank is removed itself; what it points to is never touched.
     """
     root = Path(cache_dir).expanduser() if cache_dir is not None else default_cache_dir()
-    freed = sum(entry["bytes"] for entry in cache_info(root))
-    if root.is_dir():
-        for folder in [p for p in root.iterdir() if (p / MANIFEST).is_file()]:
-            shutil.rmtree(folder)
-        for legacy in [p for p in root.iterdir() if p.is_file() and _LEGACY.match(p.name)]:
-            legacy.unlink()
+    freed = 0
+    for e in _entries(root):
+        path = Path(e.path)
+        try:
+            if e.is_symlink() and (_BANK.match(e.name) or _LEGACY.match(e.name)):
+                path.unlink()
+            elif e.is_dir(follow_symlinks=False) and (_BANK.match(e.name) or (path / MANIFEST).exists()):
+                freed += _size(path)
+                shutil.rmtree(path)
+            elif e.is_file(follow_symlinks=False) and _LEGACY.match(e.name):
+                freed += e.stat(follow_symlinks=False).st_size
+                path.unlink()
+        except OSError as exc:
+            raise PlanningError(f"cannot remove {str(path)!r} from the cache: {exc.strerror or exc}") from None
     return freed
 
 

@@ -224,6 +224,10 @@ def _cmd_cache(args) -> int:
             print(f"  {e['files']} files of an older hjplanner (no longer read): {e['bytes'] / 1e6:.2f} MB")
             continue
         p = e["params"]
+        if e["damaged"]:
+            print(f"  {e['key']}  damaged (no readable bank.json): {e['files']} files, {e['bytes'] / 1e6:.2f} MB; "
+                  "'hjplanner cache --clear' removes it")
+            continue
         print(f"  {e['key']}  {e['domain']}  spacing {p['spacing']:g} rho {p['rho']:g} h {p['h']:g} "
               f"ntheta {p['ntheta']} clearance {p['clearance']:g}{' reverse' if p['reverse'] else ''}: "
               f"{e['files']}/{e['targets']} value functions, {e['bytes'] / 1e6:.2f} MB")

@@ -60,6 +60,9 @@ class ValueFunction:
         self.distance = np.ascontiguousarray(distance, dtype=float)
         self.meta = dict(meta)
         self.geometry = geometry or {"boundary": None, "obstacles": []}
+        #: SHA-256 of the file it was loaded from, checked on load (None if not loaded, or from
+        #: a file written before files carried one).
+        self.content_sha256: str | None = None
 
     # --- properties -------------------------------------------------------
     @property
@@ -178,13 +181,14 @@ class ValueFunction:
         codes = np.full(self._phi.shape, QUANTUM_STEPS + 1, dtype=np.uint16)
         codes[finite] = np.rint(self._phi[finite] / quantum).astype(np.uint16)
         steps = np.diff(codes, axis=0, prepend=np.zeros((1, *codes.shape[1:]), np.uint16))  # wraps mod 2**16
+        data = {"phi_high": (steps >> 8).astype(np.uint8), "phi_low": (steps & 255).astype(np.uint8),
+                "free": self.free, "distance": self.distance.astype(np.float32)}
         meta = dict(self.meta, format=FORMAT, quantum=quantum,
                     grid=dict(x0=self.grid.x0, y0=self.grid.y0, h=self.grid.h, nx=self.grid.nx,
                               ny=self.grid.ny, ntheta=self.grid.ntheta))
+        meta["content_sha256"] = _content_digest(meta, data)
         boundary = self.geometry.get("boundary")
-        arrays = {"phi_high": (steps >> 8).astype(np.uint8), "phi_low": (steps & 255).astype(np.uint8),
-                  "free": self.free, "distance": self.distance.astype(np.float32),
-                  "meta": np.array(json.dumps(meta)),
+        arrays = {**data, "meta": np.array(json.dumps(meta)),
                   "boundary": np.zeros((0, 2)) if boundary is None else np.asarray(boundary, float),
                   "n_obstacles": np.array(len(self.geometry.get("obstacles", [])))}
         for n, obstacle in enumerate(self.geometry.get("obstacles", [])):
@@ -208,6 +212,7 @@ class ValueFunction:
         try:
             with np.load(path, allow_pickle=False) as data:
                 meta = json.loads(str(data["meta"]))
+                stored_digest = meta.pop("content_sha256", None) if isinstance(meta, dict) else None
                 if not isinstance(meta, dict) or meta.get("format") != FORMAT:
                     found = meta.get("format") if isinstance(meta, dict) else type(meta).__name__
                     raise PlanningError(f"{path} is not an hjplanner value function of format {FORMAT!r} "
@@ -240,11 +245,17 @@ class ValueFunction:
                     dtype is None and a.dtype.kind != "f"):
                 raise PlanningError(f"{path}: array {key!r} of shape {a.shape} and type {a.dtype} does not match "
                                     f"the grid {want}; solve it again")
+        if stored_digest is not None and stored_digest != _content_digest(dict(meta, format=FORMAT, quantum=quantum,
+                                                                               grid=g), arrays):
+            raise PlanningError(f"{path}: its content does not match its digest (a damaged or edited file); "
+                                "solve it again")
         steps = (arrays["phi_high"].astype(np.uint16) << 8) | arrays["phi_low"]
         codes = np.cumsum(steps, axis=0, dtype=np.uint16)
         free, distance = arrays["free"], arrays["distance"]
         phi = np.where(codes > QUANTUM_STEPS, np.inf, codes * quantum)
-        return cls(phi, grid, free, distance, meta, geometry)
+        vf = cls(phi, grid, free, distance, meta, geometry)
+        vf.content_sha256 = stored_digest
+        return vf
 
     # --- paths and plots --------------------------------------------------
     def path(self, start_pose: ArrayLike, ds: float | None = None, **kwargs):
@@ -281,6 +292,14 @@ class ValueFunction:
 #: Largest value-function file read, and largest uncompressed content, bytes.
 MAX_FILE_BYTES = 2 * 2**30
 MAX_CONTENT_BYTES = 4 * 2**30
+
+
+def _content_digest(meta: dict, arrays: dict) -> str:
+    """SHA-256 of the metadata (as JSON, without the digest) and the stored arrays: what
+    :meth:`ValueFunction.load` checks, so a damaged or edited file is never used."""
+    from arenas.cache_files import digest
+    text = json.dumps({k: v for k, v in meta.items() if k != "content_sha256"}, sort_keys=True)
+    return digest(text, arrays)
 
 
 def _check_archive(path: FsPath) -> None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from arenas.files import check_output
+from arenas.files import check_output, real_folder
 
 from ..errors import SearchError
 from .cluster import TLSFiles, check_address, max_workers
@@ -35,6 +35,8 @@ def _workers(text: str) -> int:
 
 
 def _address(text: str) -> str:
+    if text == "spec":
+        return text
     try:
         return check_address(text)
     except SearchError as exc:
@@ -48,7 +50,8 @@ def _where(p: argparse.ArgumentParser) -> None:
                    "(default: one per core)")
     g.add_argument("--scheduler", type=_address, metavar="ADDRESS",
                    help="address of a running Dask scheduler: tls://host:8786 with the --tls "
-                   "files, or tcp://host:8786 on a trusted network only")
+                   "files, or tcp://host:8786 on a trusted network only; 'spec' confirms the "
+                   "scheduler the spec names (never used otherwise)")
     p.add_argument("--tls-ca-file", metavar="PEM", help="CA certificate of a tls:// scheduler")
     p.add_argument("--tls-cert", metavar="PEM", help="client certificate for a tls:// scheduler")
     p.add_argument("--tls-key", metavar="PEM", help="client private key for a tls:// scheduler")
@@ -103,7 +106,10 @@ def cmd_report(args) -> int:
     from .report import build_report, write_report
     from .store import read_meta
     read_meta(args.dir)
-    out = check_output(args.out or Path(args.dir) / "report", "--out", folder=True, error=SearchError)
+    if args.out:
+        out = check_output(args.out, "--out", folder=True, error=SearchError)
+    else:   # inside the campaign folder: a real folder, never a link out of it
+        out = real_folder(args.dir, "report", label=f"campaign folder {args.dir!r}", error=SearchError)
     report = build_report(args.dir)
     write_report(report, args.dir, out)
     print(report.markdown(), end="")

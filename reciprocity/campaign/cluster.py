@@ -21,6 +21,7 @@ import logging
 import os
 import re
 import ssl
+import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
 
@@ -28,7 +29,7 @@ from arenas.files import read_text
 
 from ..errors import SearchError
 
-__all__ = ["TLSFiles", "dask_client", "check_cluster", "check_workers", "check_address", "max_workers",
+__all__ = ["UnencryptedSchedulerWarning", "TLSFiles", "dask_client", "check_cluster", "check_workers", "check_address", "max_workers",
            "MAX_WORKERS", "WORKERS_PER_CORE", "CONNECT_TIMEOUT_S"]
 
 #: Seconds to wait for a Dask scheduler given by address before giving up.
@@ -41,6 +42,21 @@ WORKERS_PER_CORE = 4
 _HOST = r"(?:\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9][A-Za-z0-9.-]{0,252})"
 _NETWORK = re.compile(rf"^(?:(?:tcp|tls)://)?{_HOST}:(\d{{1,5}})$")
 _INPROC = re.compile(r"^inproc://[^\s/]+(?:/[^\s]*)?$")
+
+
+class UnencryptedSchedulerWarning(UserWarning):
+    """A campaign connects to a plain ``tcp://`` Dask scheduler."""
+
+
+def _ssl_cause(exc: BaseException) -> str | None:
+    """The SSL error in the chain of `exc` (Dask wraps it in a timeout or OSError), or None."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        seen.add(id(exc))
+        if isinstance(exc, ssl.SSLError):
+            return " ".join(str(exc).split())
+        exc = exc.__cause__ or exc.__context__
+    return None
 
 
 def max_workers() -> int:
@@ -208,9 +224,19 @@ def dask_client(workers: int | None = None, scheduler: str | None = None, *,
     from distributed import Client, LocalCluster
     security = check_cluster(workers, scheduler, tls)
     if scheduler is not None:
+        if not scheduler.startswith(("tls://", "inproc://")):
+            warnings.warn(f"scheduler {scheduler!r} is plain TCP: unencrypted and unauthenticated, so anyone "
+                          "who can reach it can run code as you and forge the results this process "
+                          "unpickles; use it on a trusted network only, or tls:// with certificates",
+                          UnencryptedSchedulerWarning, stacklevel=3)
         try:
             client = Client(scheduler, timeout=timeout, security=security)
         except (OSError, TimeoutError, ValueError) as exc:
+            cause = _ssl_cause(exc)
+            if cause is not None:
+                raise SearchError(f"the TLS handshake with the Dask scheduler at {scheduler!r} failed: {cause}; "
+                                  "check that --tls-ca-file signed the scheduler's certificate and that "
+                                  "the scheduler accepts --tls-cert") from None
             raise SearchError(f"no Dask scheduler answers at {scheduler!r} within {timeout:g} s "
                               f"({type(exc).__name__}); start one with 'dask scheduler' "
                               "or run locally with --workers N") from None

@@ -17,12 +17,13 @@ import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..errors import SearchError
 from .cluster import CONNECT_TIMEOUT_S, TLSFiles, check_cluster, dask_client
 from .spec import CampaignSpec
 from .store import ResultStore
 from .worker import _one_line, cache_stats, failure_row, run_tasks
 
-__all__ = ["CampaignResult", "run_campaign", "MAX_CHUNK", "chunk_size"]
+__all__ = ["CampaignResult", "run_campaign", "confirmed_scheduler", "MAX_CHUNK", "chunk_size"]
 
 #: Most episodes in one Dask task: every task costs the driver CPU on the cores the
 #: workers share, which short episodes feel (benchmarks/LIMITS.md, "Campaigns").
@@ -83,10 +84,13 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
     workers : int, optional
         Local worker processes; default: one per CPU core (or the spec's scheduler).
     scheduler : str, optional
-        Address of a Dask scheduler to use instead of a local cluster; default: the
-        spec's, unless `workers` is given.
+        Address of a Dask scheduler to use instead of a local cluster, or ``"spec"`` for
+        the one the spec names. A spec's scheduler is never used unless confirmed so: its
+        workers run code as you and send back results that this process unpickles, and a
+        spec file may come from someone else (see the docs' threat model).
     tls : TLSFiles, optional
-        Client certificate for a ``tls://`` scheduler; default: the spec's.
+        Client certificate for a ``tls://`` scheduler; default: the spec's, with
+        ``scheduler="spec"``.
     progress : bool, optional
         Show a progress bar (done, failed, ETA); default: when stderr is a terminal.
     window : int, optional
@@ -112,9 +116,7 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
     """
     from tqdm import tqdm
     t0 = time.perf_counter()
-    if workers is None:
-        scheduler = scheduler or spec.scheduler
-        tls = tls or spec.tls
+    scheduler, tls = confirmed_scheduler(spec, workers, scheduler, tls)
     check_cluster(workers, scheduler, tls)
     # connect first: a scheduler that does not answer must leave the folder untouched
     with dask_client(workers, scheduler, tls=tls, timeout=timeout) as client, \
@@ -136,6 +138,27 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
         result.cache_stats = client.run(cache_stats)
     result.wall_time_s = time.perf_counter() - t0
     return result
+
+
+def confirmed_scheduler(spec: CampaignSpec, workers: int | None, scheduler: str | None,
+                        tls: TLSFiles | None) -> tuple[str | None, TLSFiles | None]:
+    """The scheduler and TLS files to use: the spec's only when `scheduler` is ``"spec"``.
+
+    Raises
+    ------
+    SearchError
+        ``"spec"`` for a spec that names none, or a spec that names one while neither
+        `workers` nor `scheduler` says what to do.
+    """
+    if scheduler == "spec":
+        if spec.scheduler is None:
+            raise SearchError("--scheduler spec: the spec names no scheduler; give an address or --workers N")
+        return spec.scheduler, tls or spec.tls
+    if spec.scheduler is not None and workers is None and scheduler is None:
+        raise SearchError(f"the spec names the Dask scheduler {spec.scheduler!r}, which would run code as you "
+                          "and send back results this process unpickles; confirm it with --scheduler spec "
+                          f"(or --scheduler {spec.scheduler}), or run locally with --workers N")
+    return scheduler, tls
 
 
 def _drive(client, pending, n_todo: int, threads: int, store: ResultStore, result: CampaignResult, bar,

@@ -19,6 +19,9 @@ from pathlib import Path
 
 import duckdb
 
+from arenas.files import atomic_output
+
+from ..errors import SearchError
 from .store import connect
 
 __all__ = ["Report", "build_report", "write_report", "open_report_db", "SUMMARY_SQL", "Z95"]
@@ -232,12 +235,13 @@ def write_report(report: Report, directory, out) -> list[Path]:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     files = [out / "report.md"]
-    files[0].write_text(report.markdown())
+    with atomic_output(files[0], error=SearchError) as tmp:
+        tmp.write_text(report.markdown())
     for name, rows in (("summary", report.summary), ("paired", report.paired),
                        ("reachability", report.reachability)):
         if rows:
             files.append(out / f"{name}.csv")
-            with files[-1].open("w", newline="") as fh:
+            with atomic_output(files[-1], error=SearchError) as tmp, tmp.open("w", newline="") as fh:
                 w = csv.DictWriter(fh, fieldnames=list(rows[0]))
                 w.writeheader()
                 w.writerows(rows)
@@ -246,6 +250,11 @@ def write_report(report: Report, directory, out) -> list[Path]:
               _distribution_figure(con, report.effort, out / "distributions.png"),
               _heatmap_figure(report, out / "success_heatmap.png")]
     return files
+
+
+def _save(fig, path: Path) -> None:
+    with atomic_output(path, error=SearchError) as tmp:
+        fig.savefig(tmp, dpi=130, format="png")
 
 
 def _figure(n_panels: int, width: float = 4.2, height: float = 3.4):
@@ -281,7 +290,7 @@ def _survival_figure(con, effort: str, path: Path) -> Path:
                ylim=(0, 1.02))
         ax.grid(alpha=0.3)
         ax.legend(fontsize="small")
-    fig.savefig(path, dpi=130)
+    _save(fig, path)
     return path
 
 
@@ -298,7 +307,7 @@ def _distribution_figure(con, effort: str, path: Path) -> Path:
         ax.set_ylabel(label)
         ax.grid(alpha=0.3, axis="y")
     ax_e.set_yscale("symlog", linthresh=1.0)  # a few lost runs are off by the arena's size
-    fig.savefig(path, dpi=130)
+    _save(fig, path)
     return path
 
 
@@ -319,5 +328,5 @@ def _heatmap_figure(report: Report, path: Path) -> Path:
     ax.set_xticks(range(len(variants)), variants, rotation=30, ha="right")
     ax.set_yticks(range(len(scenarios)), scenarios)
     fig.colorbar(im, ax=ax, label="success rate")
-    fig.savefig(path, dpi=130)
+    _save(fig, path)
     return path

@@ -37,12 +37,12 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from arenas.files import read_text
+from arenas.files import read_text, real_folder
 
 from ..errors import SearchError
 from .spec import LABEL, CampaignSpec
 
-__all__ = ["CONTRACT_SCHEMA", "ResultStore", "rows_to_table", "episodes_sql", "connect",
+__all__ = ["CONTRACT_SCHEMA", "DamagedResultsWarning", "ResultStore", "rows_to_table", "episodes_sql", "connect",
            "read_meta", "result_files", "MAX_META_BYTES"]
 
 _F64_LIST = pa.list_(pa.float64())
@@ -65,6 +65,8 @@ CONTRACT_SCHEMA = pa.schema([
 _META = "campaign.json"
 _LOCK = ".lock"
 _PART = re.compile(r"^part-[0-9a-f]{16}\.parquet$")
+#: Temporary files of :meth:`ResultStore._atomic_write`: the only files a clean-up removes.
+_TMP = re.compile(r"^\.(?:part-[0-9a-f]{16}\.parquet|campaign\.json)\.[0-9a-f]{8}\.tmp$")
 #: Largest ``campaign.json`` read, bytes (the normalized spec of the largest grids).
 MAX_META_BYTES = 32_000_000
 
@@ -163,6 +165,7 @@ def result_files(directory) -> list[Path]:
     d = Path(directory)
     files = []
     for folder in _partitions(d, read_meta(d)["spec"]):
+        _refuse_link(d, folder)
         try:
             entries = list(os.scandir(folder))
         except (FileNotFoundError, NotADirectoryError):
@@ -171,8 +174,50 @@ def result_files(directory) -> list[Path]:
             raise SearchError(f"cannot read campaign results in {str(folder)!r}: "
                               f"{exc.strerror}") from None
         files += [Path(e.path) for e in entries
-                  if _PART.match(e.name) and e.is_file(follow_symlinks=False)]
+                  if _PART.match(e.name) and e.is_file(follow_symlinks=False) and _sound(d, Path(e.path))]
     return sorted(files)
+
+
+class DamagedResultsWarning(UserWarning):
+    """A results file of a campaign could not be read: it was quarantined, its episodes
+    are run again on resume."""
+
+
+def _sound(directory: Path, path: Path) -> bool:
+    """Whether the results file `path` reads as a Parquet file with the contract's columns
+    and types; a damaged one is moved into ``DIR/quarantine/`` with a warning naming it."""
+    import warnings
+    try:
+        schema = pq.read_schema(path)
+        wrong = [f.name for f in CONTRACT_SCHEMA if schema.field(f.name).type != f.type] \
+            if set(CONTRACT_SCHEMA.names) <= set(schema.names) else ["(columns missing)"]
+        if wrong:
+            reason = f"columns of the wrong type: {', '.join(wrong)}"
+        elif pq.read_metadata(path).num_rows < 1:
+            reason = "no rows"
+        else:
+            return True
+    except Exception as exc:                  # empty, truncated, not Parquet
+        reason = f"unreadable ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})"
+    dest = None
+    with contextlib.suppress(OSError, SearchError):
+        folder = real_folder(directory, "quarantine", path.parent.parent.name, path.parent.name,
+                             label=f"campaign folder {str(directory)!r}", error=SearchError)
+        dest = folder / path.name
+        os.replace(path, dest)
+    warnings.warn(f"results file {str(path)!r} is damaged ({reason}); "
+                  f"{'moved to ' + repr(str(dest)) if dest else 'left out'}; its episodes are run again when "
+                  "the campaign resumes", DamagedResultsWarning, stacklevel=3)
+    return False
+
+
+def _refuse_link(directory: Path, folder: Path) -> None:
+    """SearchError if `folder` (a partition of `directory`) or its parent is a symbolic link."""
+    for path in (folder.parent, folder):
+        if path.is_symlink():
+            raise SearchError(f"{str(path)!r} in campaign folder {str(directory)!r} is a symbolic link; results "
+                              "are read from and written to real folders inside the campaign folder only "
+                              "(remove the link)")
 
 
 def episodes_sql(directory) -> str:
@@ -388,15 +433,24 @@ class ResultStore:
         self._atomic_write(meta, text.encode())
 
     def _remove_partial_files(self, spec: CampaignSpec) -> None:
-        # temporary files of a driver killed while writing; their episodes are re-run
+        # temporary files of a driver killed while writing (their episodes are re-run):
+        # only files named as this class names them, in real folders of the campaign
         for folder in [self.directory, *_partitions(self.directory, spec.source)]:
-            for tmp in folder.glob(".*.tmp"):
-                tmp.unlink()
+            if folder != self.directory:
+                _refuse_link(self.directory, folder)
+            try:
+                entries = list(os.scandir(folder))
+            except (FileNotFoundError, NotADirectoryError):
+                continue
+            for e in entries:
+                if _TMP.match(e.name) and e.is_file(follow_symlinks=False):
+                    with contextlib.suppress(OSError):
+                        os.unlink(e.path)
 
     def _atomic_write(self, path: Path, data: bytes) -> None:
         tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}.tmp")
         try:
-            with open(tmp, "wb") as fh:
+            with open(tmp, "xb") as fh:
                 fh.write(data)
                 fh.flush()
                 os.fsync(fh.fileno())
@@ -437,8 +491,8 @@ class ResultStore:
             parts.setdefault((r["scenario"], r["strategy"]), []).append(r)
         written = []
         for (scenario, strategy), part in parts.items():
-            folder = self.directory / f"scenario={scenario}" / f"strategy={strategy}"
-            folder.mkdir(parents=True, exist_ok=True)
+            folder = real_folder(self.directory, f"scenario={scenario}", f"strategy={strategy}",
+                                 label=f"campaign folder {str(self.directory)!r}", error=SearchError)
             name = f"part-{uuid.uuid4().hex[:16]}.parquet"
             sink = pa.BufferOutputStream()
             pq.write_table(rows_to_table(part), sink, compression="zstd")

@@ -617,6 +617,15 @@ def check_car_options(car: dict, arena=None) -> tuple[DrivingOptions, CarSpec, f
         if not isinstance(options.cache_dir, str):
             raise SearchError(f"car option cache_dir must be a folder name; got {options.cache_dir!r}")
         check_output(options.cache_dir, "car option cache_dir", folder=True, error=SearchError)
+    if options.planner == "bank":
+        from pathlib import Path
+
+        from hjplanner.bank import check_cache_dir, default_cache_dir
+        folder = Path(options.cache_dir).expanduser() if options.cache_dir else default_cache_dir()
+        try:
+            check_cache_dir(folder, "car option cache_dir" if options.cache_dir else "HJPLANNER_CACHE")
+        except PlanningError as exc:
+            raise SearchError(str(exc)) from None
     if arena is not None:
         _check_planner_budget(options, spec, arena)
     return options, spec, float(car.get("px_per_mm", 1.0))

@@ -58,9 +58,10 @@ def test_leftover_temporary_files_are_removed(tmp_path):
     ResultStore.open(tmp_path, SPEC).close()
     part = tmp_path / "scenario=empty" / "strategy=reciprocity"
     part.mkdir(parents=True)
-    (part / ".part-dead.parquet.1234.tmp").write_bytes(b"partial")
+    (part / ".part-00000000deadbeef.parquet.0badc0de.tmp").write_bytes(b"partial")
+    (part / ".notes.tmp").write_bytes(b"not a file the store wrote: kept")
     ResultStore.open(tmp_path, SPEC).close()
-    assert not list(tmp_path.glob("**/*.tmp"))
+    assert [p.name for p in tmp_path.glob("**/*.tmp")] == [".notes.tmp"]
 
 
 def test_unwritable_folder_is_a_clear_error(tmp_path):
