@@ -195,8 +195,9 @@ def _stop_pool(pool: ProcessPoolExecutor) -> None:
             process.join(5.0)
 
 
-#: Temporary files of a bank folder: ``.NNNN.npz.<pid>.tmp``, removed when their writer is gone.
-_TMP = re.compile(r"^\.(\d{4})\.npz\.(\d+)\.tmp$")
+#: Temporary files of a bank folder (``.NNNN.npz.<pid>.tmp``, ``.probe.<pid>.tmp``,
+#: ``.bank.json.<pid>.tmp``), removed when their writer is gone.
+_TMP = re.compile(r"^\.(?:\d{4}\.npz|probe|bank\.json)\.(\d+)\.tmp$")
 
 
 def _solve_to_file(target, path: str, ws: Workspace | None = None) -> str:
@@ -206,7 +207,8 @@ def _solve_to_file(target, path: str, ws: Workspace | None = None) -> str:
     final = Path(path)
     tmp = final.with_name(f".{final.name}.{os.getpid()}.tmp")
     try:
-        vf.save(tmp)
+        if not _save_unnamed(vf, final.parent, tmp):
+            vf.save(tmp)
         os.replace(tmp, final)
     finally:
         with contextlib.suppress(OSError):
@@ -214,12 +216,54 @@ def _solve_to_file(target, path: str, ws: Workspace | None = None) -> str:
     return path
 
 
+def _save_unnamed(vf: ValueFunction, folder: Path, name: Path) -> bool:
+    """Write `vf` into an unnamed file of `folder` (Linux ``O_TMPFILE``) and give it the name
+    `name` once complete: a process killed while writing leaves nothing behind. False
+    (nothing written) where the system or the file system cannot do so."""
+    if not _unnamed_files(folder):
+        return False
+    fd = os.open(folder, os.O_TMPFILE | os.O_WRONLY, 0o600)
+    with os.fdopen(fd, "wb") as fh:
+        vf.save(fh)
+        fh.flush()
+        os.link(f"/proc/self/fd/{fd}", name)
+    return True
+
+
+_UNNAMED: dict[int, bool] = {}
+
+
+def _unnamed_files(folder: Path) -> bool:
+    """Whether unnamed files can be made in `folder` and linked into it (asked once per device)."""
+    flag = getattr(os, "O_TMPFILE", None)
+    try:
+        dev = os.stat(folder).st_dev
+    except OSError:
+        return False
+    if flag is None:
+        return False
+    if dev not in _UNNAMED:
+        probe = folder / f".probe.{os.getpid()}.tmp"
+        try:
+            fd = os.open(folder, flag | os.O_WRONLY, 0o600)
+            try:
+                os.link(f"/proc/self/fd/{fd}", probe)
+                _UNNAMED[dev] = True
+            finally:
+                os.close(fd)
+        except OSError:
+            _UNNAMED[dev] = False
+        with contextlib.suppress(OSError):
+            probe.unlink()
+    return _UNNAMED[dev]
+
+
 def _remove_orphan_tmp(folder: Path) -> None:
     """Remove the temporary files of `folder` whose writing process is gone (killed)."""
     with contextlib.suppress(OSError):
         for entry in os.scandir(folder):
             m = _TMP.match(entry.name)
-            if m and entry.is_file(follow_symlinks=False) and not _alive(int(m.group(2))):
+            if m and entry.is_file(follow_symlinks=False) and not _alive(int(m.group(1))):
                 with contextlib.suppress(OSError):
                     os.unlink(entry.path)
 
@@ -298,6 +342,7 @@ class ValueFunctionBank:
         self._initargs = (domain, float(rho), float(h), int(ntheta), float(clearance), bool(reverse), single)
         self._memory = OrderedDict()
         self._memory_size = int(memory)
+        self._checked: dict[int, tuple] = {}
 
     @property
     def directory(self) -> Path:
@@ -310,8 +355,16 @@ class ValueFunctionBank:
 
     def missing(self) -> list[int]:
         """Indices of targets without a good file in the cache (absent, or failing its
-        check: see :meth:`load`; a bad file is moved aside with a CacheWarning)."""
-        return [i for i in range(len(self.targets)) if self._read(i) is None]
+        check: see :meth:`load`; a bad file is moved aside with a CacheWarning). A file
+        checked before by this object and unchanged since (inode, time, size) is not read again."""
+        return [i for i in range(len(self.targets)) if not self._unchanged(i) and self._read(i) is None]
+
+    def _unchanged(self, index: int) -> bool:
+        try:
+            st = os.lstat(self.path_of(index))
+        except OSError:
+            return False
+        return self._checked.get(index) == (st.st_ino, st.st_mtime_ns, st.st_size)
 
     def load(self, index: int) -> ValueFunction:
         """The cached value function of target ``index``, checked; solved (and cached) when
@@ -334,15 +387,18 @@ class ValueFunctionBank:
 
     def _read(self, index: int) -> ValueFunction | None:
         """The file of target ``index`` if present and good, else None (a bad one moved aside)."""
-        from arenas.cache_files import CacheEntryError, open_owned, quarantine
+        from arenas.cache_files import open_owned, quarantine
         path = self.path_of(index)
         try:
-            open_owned(path).close()
+            with open_owned(path) as fh:
+                st = os.fstat(fh.fileno())
+            stamp = (st.st_ino, st.st_mtime_ns, st.st_size)
             vf = ValueFunction.load(path)
             self._check_file(vf, index)
+            self._checked[index] = stamp
         except FileNotFoundError:
             return None
-        except (CacheEntryError, PlanningError) as exc:
+        except Exception as exc:          # whatever is wrong with it, a cache never fails a plan
             quarantine(path, " ".join(str(exc).split()).replace(str(path), "the file")[:300])
             return None
         return vf
@@ -477,7 +533,8 @@ def _manifest(folder: Path) -> dict | None:
     return manifest if ok else None
 
 
-def _size(folder: Path) -> int:
+def folder_bytes(folder: Path) -> int:
+    """Bytes of the files below `folder` (links are not followed)."""
     total = 0
     for dirpath, _, files in os.walk(folder):        # os.walk never follows links by default
         for f in files:
@@ -508,7 +565,7 @@ def cache_info(cache_dir: str | Path | None = None) -> list[dict]:
             files = [f for f in os.scandir(folder) if f.name.endswith(".npz") and f.is_file(follow_symlinks=False)]
             out.append(dict(key=e.name, domain=manifest.get("domain") if manifest else None,
                             params=manifest["params"] if manifest else None, files=len(files),
-                            targets=len(manifest["targets"]) if manifest else None, bytes=_size(folder),
+                            targets=len(manifest["targets"]) if manifest else None, bytes=folder_bytes(folder),
                             damaged=manifest is None))
         elif e.is_file(follow_symlinks=False) and _LEGACY.match(e.name):
             legacy.append(e)
@@ -533,7 +590,7 @@ def clear_cache(cache_dir: str | Path | None = None) -> int:
             if e.is_symlink() and (_BANK.match(e.name) or _LEGACY.match(e.name)):
                 path.unlink()
             elif e.is_dir(follow_symlinks=False) and (_BANK.match(e.name) or (path / MANIFEST).exists()):
-                freed += _size(path)
+                freed += folder_bytes(path)
                 shutil.rmtree(path)
             elif e.is_file(follow_symlinks=False) and _LEGACY.match(e.name):
                 freed += e.stat(follow_symlinks=False).st_size

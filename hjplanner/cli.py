@@ -183,7 +183,7 @@ MAX_TARGETS = 10_000
 
 
 def _cmd_bank(args) -> int:
-    from .bank import ValueFunctionBank, default_cache_dir
+    from .bank import ValueFunctionBank, default_cache_dir, folder_bytes
     domain = _domain(args)
     h = _grid(args, domain)
     spacing = length(args.spacing, "--spacing")
@@ -196,12 +196,13 @@ def _cmd_bank(args) -> int:
     if args.workers is not None and not 1 <= args.workers <= min(64, 4 * cores):
         raise PlanningError(f"--workers must be a whole number from 1 to {min(64, 4 * cores)} "
                             f"(4 per core); got {args.workers}")
-    _output(args.cache or default_cache_dir(), "--cache", folder=True)
+    _output(args.cache or default_cache_dir(), "--cache" if args.cache else "the cache folder (HJPLANNER_CACHE)",
+            folder=True)
     bank = ValueFunctionBank(domain, spacing, rho=args.rho, h=h, ntheta=args.ntheta,
                              clearance=args.clearance, reverse=args.reverse, cache_dir=args.cache)
     n_missing = len(bank.missing())
     seconds = bank.build(workers=args.workers, progress=not args.quiet)
-    size = sum(f.stat().st_size for f in bank.directory.iterdir())
+    size = folder_bytes(bank.directory)
     print(f"bank of {len(bank)} targets (spacing {args.spacing:g}) in {bank.directory}: "
           f"{n_missing} solved in {seconds:.1f} s, {len(bank) - n_missing} from cache; {size / 1e6:.2f} MB")
     return 0
@@ -268,7 +269,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``hjplanner`` console script; returns the exit code (2 on bad input)."""
+    import signal
+    import warnings
     parser = build_parser()
+    warnings.showwarning = _show_warning
+    if argv is None:           # the console script: SIGTERM stops the workers and cleans up, as Ctrl-C does
+        signal.signal(signal.SIGTERM, _terminated)
     try:
         args = parser.parse_args(argv)
         if args.command is None:
@@ -277,6 +283,18 @@ def main(argv: list[str] | None = None) -> int:
     except (PlanningError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one line ``warning: ...`` on stderr."""
+    print(f"warning: {' '.join(str(message).split())}", file=sys.stderr if file is None else file)
+
+
+def _terminated(signum, frame) -> None:
+    raise KeyboardInterrupt
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import zipfile
+import zlib
 from pathlib import Path as FsPath
 
 import numpy as np
@@ -164,8 +165,11 @@ class ValueFunction:
         return np.where(np.isnan(d), 0.0, d)
 
     # --- files ------------------------------------------------------------
-    def save(self, path: str | FsPath) -> FsPath:
+    def save(self, path) -> FsPath:
         """Write a compressed ``.npz`` file (no pickles): values, free mask, wall distances, grid, metadata.
+
+        `path` is a file name, or a file object open for binary writing. The file
+        carries a SHA-256 of its metadata and arrays, checked by :meth:`load`.
 
         Values are stored as uint16 multiples of ``q = max(h/64, max φ/65534)``
         (code 65535: +inf), so a loaded value differs from the saved one by
@@ -174,7 +178,6 @@ class ValueFunction:
         as differences between neighbouring headings, split into high and
         low bytes, which deflate to about a quarter of the float64 size.
         """
-        path = FsPath(path)
         finite = np.isfinite(self._phi)
         top = float(self._phi[finite].max()) if finite.any() else 0.0
         quantum = max(self.grid.h / QUANTA_PER_CELL, top / QUANTUM_STEPS)
@@ -193,6 +196,10 @@ class ValueFunction:
                   "n_obstacles": np.array(len(self.geometry.get("obstacles", [])))}
         for n, obstacle in enumerate(self.geometry.get("obstacles", [])):
             arrays[f"obstacle_{n}"] = np.asarray(obstacle, float)
+        if hasattr(path, "write"):              # an open binary file
+            np.savez_compressed(path, **arrays)
+            return path
+        path = FsPath(path)
         with open(path, "wb") as fh:
             np.savez_compressed(fh, **arrays)
         return path
@@ -235,7 +242,8 @@ class ValueFunction:
             raise PlanningError(f"value-function file {path} does not exist") from None
         except PlanningError:
             raise
-        except (OSError, KeyError, ValueError, TypeError, AttributeError, EOFError, zipfile.BadZipFile) as exc:
+        except (OSError, KeyError, ValueError, TypeError, AttributeError, EOFError, zipfile.BadZipFile,
+                zlib.error) as exc:
             raise PlanningError(f"cannot read value function from {path}: {type(exc).__name__}: {exc}") from None
         expected = {"phi_high": (shape, np.uint8), "phi_low": (shape, np.uint8),
                     "free": (shape[1:], np.bool_), "distance": (shape[1:], None)}
@@ -322,7 +330,7 @@ def _check_archive(path: FsPath) -> None:
             total = sum(info.file_size for info in z.infolist())
             # an array's own header says how much numpy will allocate, whatever the zip claims
             claimed = sum(_array_bytes(z, info) for info in z.infolist() if info.filename.endswith(".npy"))
-    except (zipfile.BadZipFile, OSError, EOFError, ValueError) as exc:
+    except (zipfile.BadZipFile, OSError, EOFError, ValueError, zlib.error) as exc:
         raise PlanningError(f"{path} is not an .npz archive ({exc}); give a file written by 'hjplanner solve'") from None
     if max(total, claimed) > MAX_CONTENT_BYTES:
         raise PlanningError(f"{path} unpacks to {max(total, claimed)} bytes; at most {MAX_CONTENT_BYTES} are read")

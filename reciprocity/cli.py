@@ -428,12 +428,27 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one line ``warning: ...`` on stderr (the CLI's voice), not Python's two."""
+    print(f"warning: {' '.join(str(message).split())}", file=sys.stderr if file is None else file)
+
+
+def _terminated(signum, frame) -> None:
+    """SIGTERM ends a command as Ctrl-C does: what is finished is written before it exits."""
+    raise KeyboardInterrupt
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``reciprocity`` console script; returns the exit code."""
+    import signal
+    import warnings
     try:
         args = build_parser().parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a usage error (already printed)
         return int(exc.code or 0)
+    warnings.showwarning = _show_warning
+    if argv is None:           # the console script, not a caller's thread or test
+        signal.signal(signal.SIGTERM, _terminated)
     try:
         return args.func(args)
     except (ArenaError, ReciprocityError) as exc:

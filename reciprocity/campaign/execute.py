@@ -72,7 +72,7 @@ class CampaignResult:
 def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
                  scheduler: str | None = None, tls: TLSFiles | None = None,
                  progress: bool | None = None, window: int | None = None, flush_rows: int = 64, flush_seconds: float = 5.0,
-                 timeout: float = CONNECT_TIMEOUT_S) -> CampaignResult:
+                 timeout: float = CONNECT_TIMEOUT_S, worker_timeout: float = NO_WORKER_TIMEOUT_S) -> CampaignResult:
     """Run (or resume) a campaign, storing every finished episode under `directory`.
 
     Parameters
@@ -102,6 +102,9 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
         at most, in episodes to re-run).
     timeout : float
         Seconds to wait for `scheduler`.
+    worker_timeout : float
+        Seconds the cluster may have no worker at all before the campaign ends with a
+        SearchError (the finished episodes saved; re-running resumes).
 
     Returns
     -------
@@ -134,7 +137,7 @@ def run_campaign(spec: CampaignSpec, directory, *, workers: int | None = None,
                   disable=not show, file=sys.stderr, dynamic_ncols=True) as bar:
             bar.set_postfix_str("failed 0")
             _drive(client, pending, n_todo, threads, store, result, bar, window or max(16, 8 * threads),
-                   flush_rows, flush_seconds)
+                   flush_rows, flush_seconds, worker_timeout)
         result.cache_stats = client.run(cache_stats)
     result.wall_time_s = time.perf_counter() - t0
     return result
@@ -161,8 +164,44 @@ def confirmed_scheduler(spec: CampaignSpec, workers: int | None, scheduler: str 
     return scheduler, tls
 
 
+#: Seconds between two looks at the finished episodes while none is ready.
+POLL_S = 0.2
+#: Seconds a campaign waits with no worker in the cluster before it ends with a message.
+NO_WORKER_TIMEOUT_S = 60.0
+
+
+class _WorkerWatch:
+    """Ends a campaign whose cluster has had no worker for `timeout` seconds (an external
+    scheduler whose workers all died: nothing would ever finish)."""
+
+    #: Seconds between two questions to the scheduler.
+    EVERY_S = 2.0
+
+    def __init__(self, client, timeout: float):
+        self.client, self.timeout = client, float(timeout)
+        self.asked = self.since = None
+
+    def check(self) -> None:
+        now = time.monotonic()
+        if self.asked is not None and now - self.asked < self.EVERY_S:
+            return
+        self.asked = now
+        try:
+            n = len(self.client.scheduler_info().get("workers", {}))
+        except Exception:                  # the scheduler itself is gone: as good as no worker
+            n = 0
+        if n:
+            self.since = None
+            return
+        self.since = self.since if self.since is not None else now
+        if now - self.since >= self.timeout:
+            raise SearchError(f"the Dask cluster has had no worker for {self.timeout:g} s, so no episode can "
+                              "finish; the finished ones are saved: start workers (dask worker ADDRESS) and "
+                              "run the same command again to resume")
+
+
 def _drive(client, pending, n_todo: int, threads: int, store: ResultStore, result: CampaignResult, bar,
-           window: int, flush_rows: int, flush_seconds: float) -> None:
+           window: int, flush_rows: int, flush_seconds: float, worker_timeout: float = NO_WORKER_TIMEOUT_S) -> None:
     """Keep `window` chunks of episodes in flight; store rows in batches as they finish."""
     from distributed import as_completed
     inflight = {}
@@ -183,25 +222,33 @@ def _drive(client, pending, n_todo: int, threads: int, store: ResultStore, resul
     for _ in range(window):
         submit_next()
     buffer, oldest = [], time.monotonic()
+    watch = _WorkerWatch(client, worker_timeout)
     try:
-        for fut in finished:
-            chunk = inflight.pop(fut.key)
-            try:
-                rows = fut.result()
-            except Exception as exc:  # the worker died or the task was lost
-                rows = [failure_row(task, f"worker lost: {_one_line(exc)}") for task in chunk]
-            fut.release()
-            if not buffer:
-                oldest = time.monotonic()
-            buffer.extend(rows)
-            result.n_run += len(rows)
-            result.n_failed += sum(row["error_message"] is not None for row in rows)
-            bar.update(len(rows))
-            bar.set_postfix_str(f"failed {result.n_failed}", refresh=False)
-            if len(buffer) >= flush_rows or time.monotonic() - oldest >= flush_seconds:
+        while inflight:
+            ready = finished.next_batch(block=False) if finished.has_ready() else []
+            if not ready:
+                time.sleep(POLL_S)
+                watch.check()
+            for fut in ready:
+                chunk = inflight.pop(fut.key)
+                try:
+                    rows = fut.result()
+                except Exception as exc:  # the worker died or the task was lost
+                    rows = [failure_row(task, f"worker lost: {_one_line(exc)}") for task in chunk]
+                fut.release()
+                if not buffer:
+                    oldest = time.monotonic()
+                buffer.extend(rows)
+                result.n_run += len(rows)
+                result.n_failed += sum(row["error_message"] is not None for row in rows)
+                bar.update(len(rows))
+                bar.set_postfix_str(f"failed {result.n_failed}", refresh=False)
+                submit_next()
+            # on a timer, not only when a result arrives: a killed driver loses at most
+            # flush_seconds of finished episodes, even while the workers are gone
+            if buffer and (len(buffer) >= flush_rows or time.monotonic() - oldest >= flush_seconds):
                 store.write(buffer)
                 buffer.clear()
-            submit_next()
     finally:
         # rows of finished episodes are results even when the driver is interrupted
         if buffer:
