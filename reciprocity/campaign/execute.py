@@ -25,6 +25,12 @@ from .worker import _one_line, cache_stats, failure_row, run_tasks
 
 __all__ = ["CampaignResult", "run_campaign", "confirmed_scheduler", "MAX_CHUNK", "chunk_size"]
 
+#: Seconds between two looks at the finished episodes while none is ready.
+POLL_S = 0.2
+#: Seconds a campaign waits with no worker in the cluster before it ends with a message.
+NO_WORKER_TIMEOUT_S = 60.0
+
+
 #: Most episodes in one Dask task: every task costs the driver CPU on the cores the
 #: workers share, which short episodes feel (benchmarks/LIMITS.md, "Campaigns").
 MAX_CHUNK = 8
@@ -162,12 +168,6 @@ def confirmed_scheduler(spec: CampaignSpec, workers: int | None, scheduler: str 
                           "and send back results this process unpickles; confirm it with --scheduler spec "
                           f"(or --scheduler {spec.scheduler}), or run locally with --workers N")
     return scheduler, tls
-
-
-#: Seconds between two looks at the finished episodes while none is ready.
-POLL_S = 0.2
-#: Seconds a campaign waits with no worker in the cluster before it ends with a message.
-NO_WORKER_TIMEOUT_S = 60.0
 
 
 class _WorkerWatch:
