@@ -227,7 +227,7 @@ def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, pad, reach,
 
 
 def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, tol, max_sweeps, nthreads,
-                 two_way=False):
+                 two_way=False, progress=None):
     """Iterate Gauss-Seidel sweeps until no value decreases by more than ``tol``.
 
     ``phi`` (ntheta, nx + 2 pad, ny + 2 pad) is updated in place; its border
@@ -244,7 +244,9 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     was at the start of the sweep (a snapshot), so the groups share no value
     that changes during a sweep and two threads (the kernels release the
     GIL) sweep them concurrently with a result that does not depend on
-    their timing: the same inputs and thread count give the same bits.  With reverse driving (``two_way``) the order within the layers
+    their timing: the same inputs and thread count give the same bits.  ``progress``, if
+    given, is called after every sweep with the sweeps done, the blocks recomputed in it
+    and the number of blocks.  With reverse driving (``two_way``) the order within the layers
     also flips every other pair of sweeps, so that reverse straight steps,
     whose feet lie behind the node, are resolved in one pass as well.  A
     block of a layer is recomputed only if a block it depends on changed
@@ -304,6 +306,8 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
             if n_run == 0:
                 break
             sweeps += 1
+            if progress is not None:
+                progress(sweeps, n_run, nt * nbx * nby)
     finally:
         if pool is not None:
             pool.shutdown()

@@ -23,7 +23,6 @@ import pickle
 import re
 import shutil
 import stat
-import threading
 import time
 import warnings
 from collections import OrderedDict
@@ -33,6 +32,8 @@ from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 
 import numpy as np
+
+from arenas.processes import die_with_parent
 
 from ._grid import Grid, make_grid
 from .errors import PlanningError
@@ -109,32 +110,9 @@ def _set_workspace(args: tuple) -> None:
     and parameters its owner passed (nothing is read from a file, nothing unpickled from
     disk), and dies with its owner."""
     global _WORKSPACE
-    _die_with_parent()
+    die_with_parent()
     domain, rho, h, ntheta, clearance, reverse, options = args
     _WORKSPACE = prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options)
-
-
-def _die_with_parent() -> None:
-    """End this process when the process that started it ends, even by ``kill -9``.
-
-    On Linux the kernel sends SIGKILL (``PR_SET_PDEATHSIG``); elsewhere, and in case the
-    parent died before the call, a daemon thread checks the parent once a second.
-    """
-    parent = os.getppid()
-    with contextlib.suppress(Exception):
-        import ctypes
-        import signal
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)      # PR_SET_PDEATHSIG
-
-    def watch() -> None:
-        while os.getppid() == parent:
-            time.sleep(1.0)
-        os._exit(1)
-
-    if os.getppid() != parent:
-        os._exit(1)
-    threading.Thread(target=watch, daemon=True, name="hjplanner-parent-watch").start()
 
 
 #: Seconds a worker process may take to start (import numba, prepare the workspace) before

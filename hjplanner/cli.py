@@ -14,6 +14,7 @@ Examples
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -23,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import PlanningError
-from .limits import MAX_LENGTH, MAX_NTHETA, MIN_NTHETA, check_grid, length
+from .limits import MAX_LENGTH, MAX_NTHETA, MIN_NTHETA, check_grid, grid_shape, length
 
 __all__ = ["main"]
 
@@ -120,8 +121,9 @@ def _cmd_solve(args) -> int:
     if args.tol is not None:
         length(args.tol, "--tol", zero=True)
     out = _output(args.out, "--out")
-    vf = solve(domain, target, args.rho, h, args.ntheta, clearance=args.clearance,
-               tol=args.tol, reverse=args.reverse)
+    with _sweep_bar(domain, h, args.ntheta) as progress:
+        vf = solve(domain, target, args.rho, h, args.ntheta, clearance=args.clearance,
+                   tol=args.tol, reverse=args.reverse, progress=progress)
     out.parent.mkdir(parents=True, exist_ok=True)
     vf.save(out)
     g = vf.grid
@@ -131,6 +133,26 @@ def _cmd_solve(args) -> int:
           f"reachable {finite.mean():.1%} of states; max finite phi {vf.values[finite].max():.4g}")
     print(f"wrote {args.out}")
     return 0
+
+
+#: Grids of more nodes than this show a progress bar over the sweeps (a few seconds and up).
+BAR_NODES = 2_000_000
+
+
+@contextlib.contextmanager
+def _sweep_bar(domain, h: float, ntheta: int):
+    """A progress bar over the sweeps of a large solve, with the blocks of the grid still
+    changing (they fall to 0 as it converges); None for a small grid."""
+    nx, ny = grid_shape(_extent(domain), h)
+    if nx * ny * ntheta <= BAR_NODES:
+        yield None
+        return
+    from tqdm import tqdm
+    with tqdm(unit="sweep", desc="HJ sweeps", file=sys.stderr) as bar:
+        def progress(sweeps: int, changed: int, blocks: int) -> None:
+            bar.set_postfix_str(f"blocks still changing {changed}/{blocks}", refresh=False)
+            bar.update(sweeps - bar.n)
+        yield progress
 
 
 def _cmd_path(args) -> int:

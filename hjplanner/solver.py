@@ -228,7 +228,8 @@ def _first_hits(ws: Workspace, gx, gy, dist, target, radius: float) -> np.ndarra
 
 
 def solve(domain, target, rho: float, h: float, ntheta: int, *, clearance: float = 0.0,
-          tol: float | None = None, reverse: bool = False, options: SolverOptions | None = None) -> ValueFunction:
+          tol: float | None = None, reverse: bool = False, options: SolverOptions | None = None,
+          progress=None) -> ValueFunction:
     """Value function φ(x, y, θ) of the simple car for a target point.
 
     Solves ``-1 = cosθ φ_x + sinθ φ_y - |φ_θ|/ρ`` with ``φ = 0`` at the target
@@ -262,6 +263,9 @@ def solve(domain, target, rho: float, h: float, ntheta: int, *, clearance: float
         Allow reverse driving (Reeds-Shepp car).
     options : SolverOptions, optional
         Numerical parameters.
+    progress : callable, optional
+        ``progress(sweeps, blocks_recomputed, blocks)`` after every sweep: the last two
+        fall to 0 as the sweeps converge (the command line draws a bar with it).
 
     Returns
     -------
@@ -295,10 +299,10 @@ def solve(domain, target, rho: float, h: float, ntheta: int, *, clearance: float
     True
     """
     return solve_in(prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options), target,
-                    tol=tol)
+                    tol=tol, progress=progress)
 
 
-def solve_in(ws: Workspace, target, *, tol: float | None = None) -> ValueFunction:
+def solve_in(ws: Workspace, target, *, tol: float | None = None, progress=None) -> ValueFunction:
     """:func:`solve` in a prepared :class:`Workspace` (what a bank does for each of its targets)."""
     tx, ty = _validate_target(target, tol)
     tol = float(tol or 0.0)
@@ -314,15 +318,17 @@ def solve_in(ws: Workspace, target, *, tol: float | None = None) -> ValueFunctio
     bc, r0 = _boundary_data(ws, (tx, ty), tol)
     if not np.isfinite(bc).any():
         raise PlanningError(f"no grid node reaches the target within tol={tol:g}; increase tol or refine h")
-    phi, sweeps = solve_on_grid(ws, bc)
+    phi, sweeps = solve_on_grid(ws, bc, progress)
     meta = dict(domain=ws.geometry["name"], target=[tx, ty], rho=ws.rho, h=grid.h, ntheta=grid.ntheta,
                 clearance=ws.clearance, tol=tol, reverse=ws.reverse, local_radius=r0, sweeps=int(sweeps),
                 solve_time_s=time.perf_counter() - t0, options=ws.options.as_dict())
     return ValueFunction(phi, grid, ws.free, ws.distance, meta, ws.geometry)
 
 
-def solve_on_grid(ws: Workspace, bc: np.ndarray) -> tuple[np.ndarray, int]:
+def solve_on_grid(ws: Workspace, bc: np.ndarray, progress=None) -> tuple[np.ndarray, int]:
     """Fixed point of the scheme for boundary data ``bc`` (ntheta, nx, ny), +inf off the target set.
+
+    ``progress(sweeps, blocks_recomputed, blocks)`` is called after each sweep, if given.
 
     Returns φ (ntheta, nx, ny), +inf where unreachable, and the number of sweeps.
     """
@@ -332,7 +338,8 @@ def solve_on_grid(ws: Workspace, bc: np.ndarray) -> tuple[np.ndarray, int]:
     phi[:, pad:-pad, pad:-pad] = np.where(np.isfinite(bc) & ws.free, bc, _sweep.BIG)
     sweeps = _sweep.solve_sweeps(
         phi, bc, st["off_i"], st["off_j"], st["w"], st["inv_self"], st["kk"], st["cost"], st["adm"], st["rev_i"],
-        st["rev_j"], pad, ws.options.sweep_tol * grid.h, ws.options.max_sweeps, ws.options.threads or 1, ws.reverse)
+        st["rev_j"], pad, ws.options.sweep_tol * grid.h, ws.options.max_sweeps, ws.options.threads or 1, ws.reverse,
+        progress)
     phi = np.ascontiguousarray(phi[:, pad:-pad, pad:-pad])
     phi[phi >= _sweep.UNREACHABLE] = np.inf
     if sweeps >= ws.options.max_sweeps:

@@ -250,4 +250,6 @@ def dask_client(workers: int | None = None, scheduler: str | None = None, *,
             LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
                          scheduler_kwargs={"dashboard_address": ":0"},
                          silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        from .worker_lifetime import DieWithDriver
+        client.register_plugin(DieWithDriver(), name="die-with-driver")
         yield client

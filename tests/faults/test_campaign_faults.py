@@ -190,3 +190,34 @@ def test_losing_every_worker_ends_the_campaign_and_keeps_what_finished(tmp_path)
     assert "no worker for 3 s" in outcome.get("error", ""), outcome
     n = duckdb.connect().execute(f"SELECT count(*) FROM {episodes_sql(out)}").fetchone()[0]
     assert 0 < n < 800
+
+
+def test_kill_9_on_a_campaign_driver_leaves_no_worker_behind(tmp_path):
+    """Process hygiene: the local cluster's workers die with the driver."""
+    import signal
+
+    from test_bank_faults import _children, _state
+    spec = tmp_path / "fast.yaml"
+    spec.write_text(FAST.format(seeds=400))
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "reciprocity.cli", "campaign", str(spec), "--out", str(out),
+                             "--workers", "2", "--quiet"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        for _ in range(6000):                       # until the workers have finished episodes
+            if (out / "campaign.json").exists() and result_files(out):
+                break
+            assert proc.poll() is None, "the campaign ended before it could be killed"
+            time.sleep(0.05)
+        workers = _children(proc.pid)
+        assert len(workers) >= 2
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait()
+        for _ in range(600):
+            alive = {p for p in workers if _state(p) not in ("gone", "Z")}
+            if not alive:
+                break
+            time.sleep(0.1)
+        assert not alive, f"orphans: {alive}"
+    finally:
+        if proc.poll() is None:
+            proc.kill()
