@@ -67,20 +67,27 @@ def read_text(src, label: str, *, error: type[Exception] = ArenaError,
     if isinstance(src, (str, os.PathLike)):
         path = Path(src)
         try:
-            st = path.stat()
+            # O_NONBLOCK: a FIFO put in the file's place is refused below, never waited on
+            fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
         except OSError as exc:
+            if isinstance(exc, IsADirectoryError) or path.is_dir():
+                raise error(f"{label} is a folder; give a file") from None
             raise error(f"cannot read {label}: {exc.strerror or exc}") from None
-        if stat.S_ISDIR(st.st_mode):
-            raise error(f"{label} is a folder; give a file")
-        if not stat.S_ISREG(st.st_mode):
-            raise error(f"{label} is not a regular file (a device, pipe or socket); give a file")
-        if st.st_size > max_bytes:
-            raise error(f"{label} has {st.st_size} bytes; at most {max_bytes} are read")
-        try:
-            with open(path, "rb") as fh:
+        st = os.fstat(fd)
+        problem = (f"{label} is a folder; give a file" if stat.S_ISDIR(st.st_mode) else
+                   f"{label} is not a regular file (a device, pipe or socket); give a file"
+                   if not stat.S_ISREG(st.st_mode) else
+                   f"{label} has {st.st_size} bytes; at most {max_bytes} are read" if st.st_size > max_bytes
+                   else None)
+        if problem is not None:
+            os.close(fd)
+            raise error(problem)
+        with os.fdopen(fd, "rb") as fh:
+            try:
+                os.set_blocking(fd, True)
                 data = fh.read(max_bytes + 1)
-        except OSError as exc:
-            raise error(f"cannot read {label}: {exc.strerror or exc}") from None
+            except OSError as exc:
+                raise error(f"cannot read {label}: {exc.strerror or exc}") from None
     else:  # a packaged resource
         data = src.read_bytes()
     if len(data) > max_bytes:

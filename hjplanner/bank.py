@@ -257,16 +257,22 @@ def _alive(pid: int) -> bool:
 
 
 def check_cache_dir(folder: Path, label: str = "the value-function cache") -> Path:
-    """`folder` if a bank can be kept there: created if missing, a real folder (not a link)
-    that this process can write, else PlanningError naming it; checked before any work."""
+    """`folder` if a bank can be kept there, else PlanningError naming it; checked before
+    any work, creating nothing: an existing `folder` must be a real folder (not a link) this
+    process can write into, a missing one must have a writable folder as its nearest
+    existing ancestor."""
     import tempfile
+    folder = Path(folder)
+    probe = folder
+    while not os.path.lexists(probe) and probe != probe.parent:
+        probe = probe.parent
     try:
-        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
-        st = os.lstat(folder)
+        st = os.lstat(probe)
         if not stat.S_ISDIR(st.st_mode):
-            raise PlanningError(f"{label} {str(folder)!r} is not a folder (or is a symbolic link); "
+            where = "is" if probe == folder else f"cannot be made: {str(probe)!r} is"
+            raise PlanningError(f"{label} {str(folder)!r} {where} not a folder (or is a symbolic link); "
                                 "give a folder (HJPLANNER_CACHE, --cache or cache_dir=)")
-        with tempfile.TemporaryFile(dir=folder):
+        with tempfile.TemporaryFile(dir=probe):
             pass
     except OSError as exc:
         raise PlanningError(f"{label} {str(folder)!r} cannot be written ({exc.strerror or exc}); "

@@ -516,7 +516,8 @@ def problems(o: Outcome) -> list[str]:
         found.append(o.raised)
     elif o.code != 2:
         found.append(f"exit {o.code}" + (" (accepted)" if o.code == 0 else ""))
-    lines = o.err.strip().splitlines()
+    # the one warning a refusal may carry: a plain tcp:// scheduler is always warned about
+    lines = [ln for ln in o.err.strip().splitlines() if not re.match(r"warning: scheduler '.*' is plain TCP", ln)]
     warned = [m.group(0) for m in map(re.compile(r"\w+Warning: .*").search, lines) if m]
     if "Traceback" in o.err + o.out:
         found.append("traceback printed")

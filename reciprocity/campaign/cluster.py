@@ -233,6 +233,8 @@ def dask_client(workers: int | None = None, scheduler: str | None = None, *,
             client = Client(scheduler, timeout=timeout, security=security)
         except (OSError, TimeoutError, ValueError) as exc:
             cause = _ssl_cause(exc)
+            if cause is None and scheduler.startswith("tls://") and "CommClosed" in type(exc).__name__:
+                cause = "the scheduler closed the connection during the handshake (it refused this certificate)"
             if cause is not None:
                 raise SearchError(f"the TLS handshake with the Dask scheduler at {scheduler!r} failed: {cause}; "
                                   "check that --tls-ca-file signed the scheduler's certificate and that "
