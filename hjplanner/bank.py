@@ -280,6 +280,24 @@ def check_cache_dir(folder: Path, label: str = "the value-function cache") -> Pa
     return folder
 
 
+#: Bank files checked in this process: path -> (inode, mtime, size) when checked.
+_CHECKED: OrderedDict = OrderedDict()
+#: Most entries of :data:`_CHECKED`.
+_CHECKED_SIZE = 4096
+
+
+def _stamp(st: os.stat_result) -> tuple:
+    """What changes whenever a file is replaced, written, or given to another user."""
+    return st.st_ino, st.st_mtime_ns, st.st_ctime_ns, st.st_size, st.st_uid
+
+
+def _remember_checked(path: str, stamp: tuple) -> None:
+    _CHECKED[path] = stamp
+    _CHECKED.move_to_end(path)
+    while len(_CHECKED) > _CHECKED_SIZE:
+        _CHECKED.popitem(last=False)
+
+
 class ValueFunctionBank:
     """Value functions for a lattice of targets, cached on disk.
 
@@ -326,7 +344,6 @@ class ValueFunctionBank:
         self._initargs = (domain, float(rho), float(h), int(ntheta), float(clearance), bool(reverse), single)
         self._memory = OrderedDict()
         self._memory_size = int(memory)
-        self._checked: dict[int, tuple] = {}
 
     @property
     def directory(self) -> Path:
@@ -340,7 +357,8 @@ class ValueFunctionBank:
     def missing(self) -> list[int]:
         """Indices of targets without a good file in the cache (absent, or failing its
         check: see :meth:`load`; a bad file is moved aside with a CacheWarning). A file
-        checked before by this object and unchanged since (inode, time, size) is not read again."""
+        checked before in this process and unchanged since (inode, time, size) is not read
+        again, so a campaign's episodes pay for the check once per worker."""
         return [i for i in range(len(self.targets)) if not self._unchanged(i) and self._read(i) is None]
 
     def _unchanged(self, index: int) -> bool:
@@ -348,7 +366,7 @@ class ValueFunctionBank:
             st = os.lstat(self.path_of(index))
         except OSError:
             return False
-        return self._checked.get(index) == (st.st_ino, st.st_mtime_ns, st.st_size)
+        return _CHECKED.get(str(self.path_of(index))) == _stamp(st)
 
     def load(self, index: int) -> ValueFunction:
         """The cached value function of target ``index``, checked; solved (and cached) when
@@ -376,10 +394,10 @@ class ValueFunctionBank:
         try:
             with open_owned(path) as fh:
                 st = os.fstat(fh.fileno())
-            stamp = (st.st_ino, st.st_mtime_ns, st.st_size)
+            stamp = _stamp(st)
             vf = ValueFunction.load(path)
             self._check_file(vf, index)
-            self._checked[index] = stamp
+            _remember_checked(str(path), stamp)
         except FileNotFoundError:
             return None
         except Exception as exc:          # whatever is wrong with it, a cache never fails a plan

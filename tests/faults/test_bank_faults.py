@@ -189,7 +189,7 @@ def test_kill_9_on_a_bank_leaves_no_worker_behind(tmp_path):
     """Defect 8: kill -9 on 'hjplanner bank' orphaned its pool workers (about 160 MB each),
     the resource tracker, and its workspace file."""
     proc = subprocess.Popen([sys.executable, "-m", "hjplanner", *BANK_ARGS[:-1], "--h", "0.01", "--ntheta", "64",
-                             "--cache", str(tmp_path), "--workers", "2", "--quiet"],
+                             "--spacing", "0.1", "--cache", str(tmp_path), "--workers", "2", "--quiet"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         workers: set[int] = set()
@@ -214,7 +214,7 @@ def test_kill_9_on_a_bank_leaves_no_worker_behind(tmp_path):
             proc.kill()
     assert not list(tmp_path.rglob("*.workspace")) and not list(tmp_path.rglob("*.pkl"))
     bank_dir = next(p for p in tmp_path.iterdir() if p.is_dir())
-    ValueFunctionBank(DOMAIN, 0.25, cache_dir=tmp_path, rho=0.2, h=0.01, ntheta=64).missing()
+    ValueFunctionBank(DOMAIN, 0.1, cache_dir=tmp_path, rho=0.2, h=0.01, ntheta=64).missing()
     from hjplanner.bank import _remove_orphan_tmp
     _remove_orphan_tmp(bank_dir)                   # what a killed writer left is removed on next use
     assert not list(bank_dir.glob(".*.tmp"))
