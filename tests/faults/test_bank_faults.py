@@ -15,6 +15,7 @@ import pytest
 from arenas.cache_files import CacheWarning, QUARANTINE
 from hjplanner import PlanningError, ValueFunctionBank
 from hjplanner.bank import cache_info, clear_cache
+from process_tree import descendants, kill_9_and_wait
 
 DOMAIN = ((0.0, 1.0), (0.0, 1.0))
 PARAMS = dict(rho=0.2, h=0.05, ntheta=16)
@@ -165,25 +166,6 @@ def test_clearing_survives_a_damaged_manifest_and_never_follows_a_link(built, tm
     assert sorted(p.name for p in precious.iterdir()) == ["0000.npz", "bank.json"]   # ... not what it showed
 
 
-def _children(pid: int) -> set[int]:
-    """Every living descendant of `pid` (from /proc)."""
-    parents = {}
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                with open(f"/proc/{entry}/stat") as fh:
-                    fields = fh.read().rsplit(")", 1)[1].split()
-                if fields[0] != "Z":
-                    parents[int(entry)] = int(fields[1])
-            except (OSError, IndexError, ValueError):
-                continue
-    out, frontier = set(), {pid}
-    while frontier:
-        frontier = {p for p, pp in parents.items() if pp in frontier} - out
-        out |= frontier
-    return out
-
-
 @pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs /proc to find the workers")
 def test_kill_9_on_a_bank_leaves_no_worker_behind(tmp_path):
     """Defect 8: kill -9 on 'hjplanner bank' orphaned its pool workers (about 160 MB each),
@@ -194,20 +176,14 @@ def test_kill_9_on_a_bank_leaves_no_worker_behind(tmp_path):
     try:
         workers: set[int] = set()
         for _ in range(3000):                     # until both workers have written a file
-            workers = _children(proc.pid)
+            workers = descendants(proc.pid)
             if len(workers) >= 3 and len(list(tmp_path.rglob("0*.npz"))) >= 2:
                 break
             if proc.poll() is not None:
                 pytest.fail("the bank finished before it could be killed: make it larger")
             time.sleep(0.05)
         assert len(workers) >= 2
-        os.kill(proc.pid, signal.SIGKILL)
-        proc.wait()
-        for _ in range(600):                       # the kernel ends them (PR_SET_PDEATHSIG) or they notice
-            alive = {p for p in workers if os.path.exists(f"/proc/{p}") and _state(p) != "Z"}
-            if not alive:
-                break
-            time.sleep(0.1)
+        alive = kill_9_and_wait(proc, workers)
         assert not alive, f"orphans: {alive}"
     finally:
         if proc.poll() is None:
@@ -218,19 +194,3 @@ def test_kill_9_on_a_bank_leaves_no_worker_behind(tmp_path):
     from hjplanner.bank import _remove_orphan_tmp
     _remove_orphan_tmp(bank_dir)                   # what a killed writer left is removed on next use
     assert not list(bank_dir.glob(".*.tmp"))
-
-
-def _state(pid: int) -> str:
-    try:
-        with open(f"/proc/{pid}/stat") as fh:
-            return fh.read().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        return "gone"
-
-
-def test_nothing_is_unpickled_from_the_cache():
-    """Defect 2: the bank's workers unpickled their workspace from a file in the cache."""
-    import hjplanner.bank as bank
-    import inspect
-    source = inspect.getsource(bank)
-    assert "pickle.load" not in source and "pickle.dump(" not in source

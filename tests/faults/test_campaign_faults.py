@@ -194,9 +194,7 @@ def test_losing_every_worker_ends_the_campaign_and_keeps_what_finished(tmp_path)
 
 def test_kill_9_on_a_campaign_driver_leaves_no_worker_behind(tmp_path):
     """Process hygiene: the local cluster's workers die with the driver."""
-    import signal
-
-    from test_bank_faults import _children, _state
+    from process_tree import descendants, kill_9_and_wait
     spec = tmp_path / "fast.yaml"
     spec.write_text(FAST.format(seeds=400))
     out = tmp_path / "out"
@@ -208,15 +206,9 @@ def test_kill_9_on_a_campaign_driver_leaves_no_worker_behind(tmp_path):
                 break
             assert proc.poll() is None, "the campaign ended before it could be killed"
             time.sleep(0.05)
-        workers = _children(proc.pid)
+        workers = descendants(proc.pid)
         assert len(workers) >= 2
-        os.kill(proc.pid, signal.SIGKILL)
-        proc.wait()
-        for _ in range(600):
-            alive = {p for p in workers if _state(p) not in ("gone", "Z")}
-            if not alive:
-                break
-            time.sleep(0.1)
+        alive = kill_9_and_wait(proc, workers)
         assert not alive, f"orphans: {alive}"
     finally:
         if proc.poll() is None:
