@@ -161,3 +161,47 @@ def test_bad_arguments_fail_cleanly():
         policy.reset(2)
     with pytest.raises(SearchError, match="size"):
         rg.BeliefImage(env, size=4)
+
+
+@pytest.mark.parametrize("env_id", sorted(rg.IDS))
+def test_observations_and_infos_pickle(env_id):
+    """What a subprocess vector environment sends back (observations, reset and step
+    infos, the final summary) pickles; the task arrives read-only, without the platform."""
+    import pickle
+    env = gymnasium.make(env_id)
+    obs, info = env.reset(seed=0)
+    sent = [obs, info]
+    env.action_space.seed(0)
+    for action in [*(env.action_space.sample() for _ in range(2)), env.unwrapped.face.stop_action()]:
+        obs, _, terminated, truncated, info = env.step(action)
+        sent += [obs, info]
+        if terminated or truncated:
+            break
+    assert terminated or truncated
+    back = pickle.loads(pickle.dumps(sent))
+    task = back[1]["task"]
+    sent_task = sent[1]["task"]
+    assert (task.world, task.scenario, set(task.world_nominal)) == (sent_task.world, sent_task.scenario,
+                                                                    set(sent_task.world_nominal))
+    assert (task.starts == sent_task.starts).all() and task.max_steps == sent_task.max_steps
+    with pytest.raises(TypeError):
+        task.world_nominal["arena"] = None            # still read-only
+    if task.reachable is not None:
+        with pytest.raises(SearchError, match="another process"):
+            task.reachable(np.zeros((1, 2)))
+    assert back[-1]["success"] == sent[-1]["success"]
+
+
+def test_an_async_vector_environment_runs():
+    """gymnasium.make_vec(..., vectorization_mode="async"): two lattice searches in
+    subprocesses, a few steps (SB3's SubprocVecEnv sends the same things)."""
+    envs = gymnasium.make_vec("reciprocity/Lattice-v0", num_envs=2, vectorization_mode="async")
+    try:
+        obs, infos = envs.reset(seed=[0, 1])
+        assert infos["task"][0].world == "lattice"
+        for _ in range(3):
+            obs, reward, terminated, truncated, infos = envs.step(np.array([1, 2]))
+            assert envs.observation_space.contains(obs) and reward.shape == (2,)
+        envs.step(np.array([5, 5]))                  # both stop: the final infos come back too
+    finally:
+        envs.close()
