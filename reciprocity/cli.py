@@ -298,7 +298,7 @@ def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
     params = dict(params)
     if strategy in STRATEGIES and "h" in strategy_parameters(strategy):
         params.setdefault("h", args.h)
-    sc = load_scenario(scenario)
+    sc = load_scenario(scenario, source=world.get("source"))
     options = _params(args.car, "--car", "planner=bank")
     platform = getattr(args, "platform", None)
     if options and (platform or sc.platform) != "car":
