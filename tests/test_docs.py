@@ -159,6 +159,20 @@ def test_the_docs_show_commands_and_code():
     assert {"README.md", "docs/framework.md", "docs/campaigns.md"} <= set(DOCS)
 
 
+def test_the_site_renders_offline():
+    """No page needs the network to render: no diagram drawn by a script from a CDN
+    (```mermaid), no script or style sheet fetched from elsewhere, and every image a
+    file of the repository."""
+    config = (ROOT / "mkdocs.yml").read_text()
+    assert "mermaid" not in config and "extra_javascript" not in config and "extra_css" not in config
+    for doc in DOCS:
+        text = (ROOT / doc).read_text()
+        assert [lang for lang, _, _ in blocks(doc) if lang == "mermaid"] == [], doc
+        for image in re.findall(r"!\[[^\]]*\]\(([^)\s]+)", text):
+            assert not image.startswith(("http:", "https:", "//")), f"{doc}: {image}"
+            assert ((ROOT / doc).parent / image).is_file(), f"{doc}: {image} is not a file"
+
+
 # ---------------------------------------------------------------------------------------
 # Examples in --help texts
 
