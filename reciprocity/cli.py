@@ -7,6 +7,7 @@ import json
 import math
 import os
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -367,10 +368,26 @@ def cmd_run(args) -> int:
 
 
 def cmd_demo(args) -> int:
+    from tqdm import tqdm
     args.set = []
-    plans = [_arena_plan(args, name, {}) for name in ("reciprocity", "gradient")]
+    names = ("reciprocity", "gradient")
+    plans = [_arena_plan(args, name, {}) for name in names]
     out = check_output(args.out, "--out", folder=True, error=ReciprocityError)
-    rows = [_run_one(args, plan, out).summary for plan in plans]
+    if not args.quiet:
+        print(f"demo: the {args.platform} observer searches arena {plans[0].scenario.name!r} with "
+              f"{' and then '.join(names)}; figures into {out}/", flush=True)
+    rows = []
+    # one bar over the runs, and each run's own bar of steps below it (terminals only, as
+    # campaigns): the meshing, solves and car planning before the first step take seconds
+    with tqdm(total=len(plans), desc="demo", unit="run", file=sys.stderr, dynamic_ncols=True,
+              disable=args.quiet or not sys.stderr.isatty()) as bar:
+        for plan in plans:
+            bar.set_postfix_str(plan.strategy)
+            t0 = time.perf_counter()
+            rows.append(_run_one(args, plan, out).summary)
+            bar.update(1)
+            if not args.quiet:
+                bar.write(f"  {plan.strategy}: done in {time.perf_counter() - t0:.0f} s", file=sys.stdout)
     (out / "summary.json").write_text(json.dumps(rows, indent=1))
     src = rows[0]["source"]
     noise = ("sensor noise 12 ADC counts, 1 s dwell" if args.platform == "car"

@@ -230,6 +230,15 @@ def test_the_demo_takes_a_plain_arena_file(tmp_path, monkeypatch, capsys):
     assert all(r["source"] == [70.21, 70.21] for r in rows)
 
 
+def test_the_demo_says_what_it_does_before_and_while_it_runs(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["demo", "--arena", "empty", "--platform", "point", "--h", "5", "--out", "d"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("demo: the point observer searches arena 'empty' with reciprocity and then gradient")
+    assert lines[1].startswith("  reciprocity: done in ") and lines[2].startswith("  gradient: done in ")
+    assert lines[-3].startswith("reciprocity: success: ") and lines[-2].startswith("gradient: success: ")
+
+
 @pytest.mark.parametrize("command", ["scenarios", "strategies", "arenas"])
 def test_a_reader_that_leaves_early_gets_no_traceback(command):
     """`reciprocity scenarios | head -2`: the listing meets a closed pipe and exits quietly."""
