@@ -289,6 +289,19 @@ class _Planned:
     options: dict
 
 
+def _random_draw(args, sc) -> dict:
+    """``--random-source``: the true source and the start of an arena scenario, drawn from
+    the episode seed as a campaign's ``random_source: true`` and ``reciprocity/Poisson-v0``
+    draw them."""
+    from .campaign.worker import world_draw
+    if sc.world != "poisson":
+        raise ReciprocityError(f"--random-source draws the source and start in an arena; scenario {sc.name!r} "
+                               f"is a {sc.world} world")
+    if args.source is not None or args.start is not None:
+        raise ReciprocityError("--random-source draws the source and the start: give neither --source nor --start")
+    return world_draw(sc, args.seed)
+
+
 def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
     """Validate one episode's inputs cheaply (no meshing or solving)."""
     from .api import check, strategy_parameters
@@ -300,6 +313,8 @@ def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
     if strategy in STRATEGIES and "h" in strategy_parameters(strategy):
         params.setdefault("h", args.h)
     sc = load_scenario(scenario, source=world.get("source"))
+    if getattr(args, "random_source", False):
+        world.update(_random_draw(args, sc))
     options = _params(args.car, "--car", "planner=bank")
     platform = getattr(args, "platform", None)
     if options and (platform or sc.platform) != "car":
@@ -474,6 +489,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--out", help="folder for figures, the full trace (and the video on the car)")
     run.add_argument("--platform", help="observer: point, car, walker (default: the scenario's)")
     run.add_argument("--json", help="write the episode summary (JSON) to this file")
+    run.add_argument("--random-source", action="store_true",
+                     help="draw the true source and the start from --seed (arenas; as reciprocity/Poisson-v0)")
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                      help="strategy parameter, e.g. --set eps=0.1 (repeatable)")
     run.add_argument("--unknown-map", action="store_true",
