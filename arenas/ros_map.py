@@ -37,6 +37,7 @@ from .errors import ArenaError
 from .frames import pixel_to_world
 from .geometry import MAX_COORD_CM, MAX_VERTICES, Arena
 from .image import MAX_PIXELS, _number, _read_image
+from .poses import pose_from_degrees
 
 __all__ = ["ROS_KEYS", "is_ros_map", "from_ros_map", "to_ros_map", "MAX_OBSTACLES"]
 
@@ -217,7 +218,6 @@ def from_ros_map(data: dict, folder=".", *, where: str = "ROS map", name: str = 
     >>> a.boundary.max(axis=0), len(a.obstacles)
     (array([400., 300.]), 1)
     """
-    from .io import from_dict
     keys = _checked(data, where)
     image = Path(data["image"])
     image = image if image.is_absolute() else Path(folder) / image
@@ -234,10 +234,32 @@ def from_ros_map(data: dict, folder=".", *, where: str = "ROS map", name: str = 
     poly = _outline(free, cm_per_px, keys["origin_cm"], where)
     tol = 0.5 * cm_per_px if simplify_cm is None else _number(simplify_cm, "simplify_cm", 0.0, MAX_COORD_CM)
     poly = _within_limits(poly, cm_per_px, tol, where)
-    arena = {"name": str(data.get("name", name)), "boundary": np.asarray(poly.exterior.coords)[:-1].tolist(),
-             "obstacles": [np.asarray(h.coords)[:-1].tolist() for h in poly.interiors]}
-    arena.update({k: data[k] for k in ("source", "strength", "start") if k in data})
-    return from_dict(arena, where=where)
+    try:
+        holes = [np.asarray(h.coords)[:-1] for h in poly.interiors]
+        return Arena.from_polygons(np.asarray(poly.exterior.coords)[:-1], holes, name=str(data.get("name", name)),
+                                   **_scenario_keys(data, where))
+    except ArenaError as exc:
+        raise ArenaError(f"{where}: {exc}") from None
+
+
+def _scenario_keys(data: dict, where: str) -> dict:
+    """The toolkit's ``source``, ``strength`` and ``start`` (cm, degrees) of a map file, as
+    :meth:`Arena.from_polygons` takes them (start heading in radians)."""
+    out = {}
+    for key, shapes, form in (("source", [(2,)], "[x, y]"), ("start", [(2,), (3,)], "[x, y] or [x, y, heading_deg]")):
+        if data.get(key) is None:
+            continue
+        value = data[key]
+        try:
+            v = np.asarray(value, dtype=float) if isinstance(value, list) else None
+        except (TypeError, ValueError):
+            v = None
+        if v is None or v.shape not in shapes or not np.all(np.isfinite(v)):
+            raise ArenaError(f"{where}: {key!r} must be {form} in cm (and degrees); got {value!r}")
+        out[key] = pose_from_degrees(v) if key == "start" else v
+    if "strength" in data:
+        out["strength"] = data["strength"]
+    return out
 
 
 def to_ros_map(arena: Arena, path, resolution: float = 0.01) -> Path:

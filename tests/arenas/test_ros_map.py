@@ -139,3 +139,15 @@ def test_the_command_line_takes_a_map(flag, tmp_path, monkeypatch, capsys):
     assert main(["run", flag, bad, "--strategy", "random-walk", "--source", "150,60"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("error: ") and "free_thresh" in err[0]
+
+
+def test_a_map_file_may_carry_the_source_and_the_start(tmp_path):
+    a = arenas.load(_write(tmp_path, _grid(), source=[150, 60], strength=600, start=[-50, 20, 90]))
+    assert a.source.tolist() == [150.0, 60.0] and a.strength == 600.0
+    assert np.allclose(a.start, [-50.0, 20.0, np.pi / 2])
+    for bad, words in (({"source": "here"}, "'source' must be [x, y]"), ({"start": [1, 2, 3, 4]}, "'start' must be"),
+                       ({"strength": -1}, "strength must be a number in (0"),
+                       ({"source": [-99, -40]}, "source (-99, -40) cm is outside the arena")):
+        with pytest.raises(ArenaError) as e:
+            arenas.load(_write(tmp_path, _grid(), name="bad", **bad))
+        assert words in str(e.value) and "\n" not in str(e.value), str(e.value)
