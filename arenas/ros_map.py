@@ -23,7 +23,8 @@ along the cells and simplified until the arena's limits hold (at most 1000 obsta
 20000 obstacle vertices, see :mod:`arenas.io`).
 
 The toolkit's own keys may be added to a map file: ``name``, ``source``, ``strength`` and
-``start`` (cm and degrees, as in an arena file).
+``start`` (cm and degrees, as in an arena file), and ``unknown: free`` to take the unknown
+cells for free space (then only cells above ``occupied_thresh`` are walls).
 """
 
 from __future__ import annotations
@@ -44,7 +45,9 @@ __all__ = ["ROS_KEYS", "is_ros_map", "from_ros_map", "to_ros_map", "MAX_OBSTACLE
 #: The keys of a ``map_server`` YAML (``mode`` optional).
 ROS_KEYS = ("image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh", "mode")
 #: The toolkit's own keys a map file may add.
-EXTRA_KEYS = ("name", "description", "source", "strength", "start")
+EXTRA_KEYS = ("name", "description", "source", "strength", "start", "unknown")
+#: What an unknown cell (between the thresholds) may be taken for.
+UNKNOWN_AS = ("obstacle", "free")
 #: Most obstacles of an arena read from a map (the limit of arena files).
 MAX_OBSTACLES = 1000
 #: The modes of ``map_server``.
@@ -97,11 +100,15 @@ def _checked(data: dict, where: str) -> dict:
     if mode not in MODES:
         raise ArenaError(f"{where}: 'mode' must be one of {', '.join(MODES)}; got {mode!r}")
     out["mode"] = mode
+    unknown = data.get("unknown", "obstacle")
+    if unknown not in UNKNOWN_AS:
+        raise ArenaError(f"{where}: 'unknown' must be one of {', '.join(UNKNOWN_AS)}; got {unknown!r}")
+    out["unknown"] = unknown
     return out
 
 
 def free_cells(grey: np.ndarray, *, negate: bool = False, occupied_thresh: float = 0.65,
-               free_thresh: float = 0.196, mode: str = "trinary") -> np.ndarray:
+               free_thresh: float = 0.196, mode: str = "trinary", unknown: str = "obstacle") -> np.ndarray:
     """The free cells of a ``map_server`` image, as ``map_server`` classifies them.
 
     Parameters
@@ -114,17 +121,18 @@ def free_cells(grey: np.ndarray, *, negate: bool = False, occupied_thresh: float
         Occupancy probabilities above which a cell is occupied and below which it is free.
     mode : {"trinary", "scale", "raw"}
         ``raw``: the grey level is the occupancy in percent.
+    unknown : {"obstacle", "free"}
+        What a cell between the thresholds is: an obstacle (nobody has seen it), or free
+        (only cells more likely occupied than `occupied_thresh` are walls).
 
     Returns
     -------
     ndarray of bool, shape (rows, cols)
-        True where the cell is free (occupied and unknown cells are False).
+        True where the cell is free.
     """
     x = grey.astype(float)
-    if mode == "raw":
-        return x / 100.0 < free_thresh
-    p = x / 255.0 if negate else (255.0 - x) / 255.0
-    return p < free_thresh
+    p = x / 100.0 if mode == "raw" else x / 255.0 if negate else (255.0 - x) / 255.0
+    return p < free_thresh if unknown == "obstacle" else p <= occupied_thresh
 
 
 def _outline(free: np.ndarray, cm_per_px: float, origin_cm: tuple, where: str):
@@ -230,7 +238,7 @@ def from_ros_map(data: dict, folder=".", *, where: str = "ROS map", name: str = 
         raise ArenaError(f"{where}: image of {grey.shape[1]} x {grey.shape[0]} px at {keys['resolution']:g} m "
                          f"per pixel reaches beyond {MAX_COORD_CM / 100:g} m")
     free = free_cells(grey, negate=keys["negate"], occupied_thresh=keys["occupied_thresh"],
-                      free_thresh=keys["free_thresh"], mode=keys["mode"])
+                      free_thresh=keys["free_thresh"], mode=keys["mode"], unknown=keys["unknown"])
     poly = _outline(free, cm_per_px, keys["origin_cm"], where)
     tol = 0.5 * cm_per_px if simplify_cm is None else _number(simplify_cm, "simplify_cm", 0.0, MAX_COORD_CM)
     poly = _within_limits(poly, cm_per_px, tol, where)

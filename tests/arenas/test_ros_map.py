@@ -60,6 +60,14 @@ def test_the_thresholds_are_those_of_map_server():
     assert free_cells(grey, free_thresh=0.3, occupied_thresh=0.9).tolist() == [[False, False, True, True]]
     assert free_cells(grey, negate=True).tolist() == [[True, False, False, False]]
     assert free_cells(np.array([[0, 10, 50, 100]], np.uint8), mode="raw").tolist() == [[True, True, False, False]]
+    assert free_cells(grey, unknown="free").tolist() == [[False, True, True, True]]
+    assert free_cells(grey, unknown="free", occupied_thresh=0.5).tolist() == [[False, False, True, True]]
+
+
+def test_unknown_cells_may_be_taken_for_free_space(tmp_path):
+    a = arenas.load(_write(tmp_path, _grid(), unknown="free"))
+    assert len(a.obstacles) == 1                           # the table; the pillar is free
+    assert a.area == pytest.approx((34 * 54 - 6 * 12) * 25, rel=0.01)
 
 
 def test_grey_cells_between_the_thresholds_are_obstacles_unless_free(tmp_path):
@@ -112,6 +120,7 @@ def test_the_simplification_keeps_the_arena_limits(tmp_path, monkeypatch):
     ({"origin": "here"}, "'origin' must be [x, y, yaw]"),
     ({"mode": "fuzzy"}, "'mode' must be one of trinary, scale, raw; got 'fuzzy'"),
     ({"colour": "red"}, "unknown key(s) ['colour']"),
+    ({"unknown": "maybe"}, "'unknown' must be one of obstacle, free; got 'maybe'"),
 ])
 def test_bad_maps_fail_with_one_line(change, words, tmp_path):
     path = _write(tmp_path, None if "image" in change else _grid(), **change)
