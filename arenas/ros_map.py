@@ -37,7 +37,6 @@ import numpy as np
 from .errors import ArenaError
 from .frames import pixel_to_world
 from .geometry import MAX_COORD_CM, MAX_VERTICES, Arena
-from .image import MAX_PIXELS, _number, _read_image
 from .poses import pose_from_degrees
 
 __all__ = ["ROS_KEYS", "is_ros_map", "from_ros_map", "to_ros_map", "MAX_OBSTACLES"]
@@ -65,6 +64,7 @@ def is_ros_map(data) -> bool:
 def _checked(data: dict, where: str) -> dict:
     """The map keys of `data`, each checked; ArenaError naming the key, its value and what
     is allowed."""
+    from .image import _number        # OpenCV, imported where a map is read or written
     unknown = set(data) - set(ROS_KEYS) - set(EXTRA_KEYS)
     if unknown:
         raise ArenaError(f"{where}: unknown key(s) {sorted(unknown)}; a ROS map has "
@@ -226,6 +226,7 @@ def from_ros_map(data: dict, folder=".", *, where: str = "ROS map", name: str = 
     >>> a.boundary.max(axis=0), len(a.obstacles)
     (array([400., 300.]), 1)
     """
+    from .image import MAX_PIXELS, _number, _read_image
     keys = _checked(data, where)
     image = Path(data["image"])
     image = image if image.is_absolute() else Path(folder) / image
@@ -297,6 +298,8 @@ def to_ros_map(arena: Arena, path, resolution: float = 0.01) -> Path:
     import shapely
     import yaml
     from shapely.geometry import Polygon
+
+    from .image import MAX_PIXELS, _number
     cm_per_px = 100.0 * _number(resolution, "resolution (m per pixel)", 0.0, 1e3, open_lo=True)
     lo, hi = arena.boundary.min(axis=0), arena.boundary.max(axis=0)
     cols, rows = (int(math.ceil(v / cm_per_px - 1e-9)) for v in hi - lo)
