@@ -18,7 +18,8 @@ anything between unknown. The arena is the largest connected free region: its ou
 the boundary, every occupied or unknown part inside it an obstacle (nobody has seen what
 an unknown cell holds, so no observer is sent there). Lengths become cm (1 px =
 ``resolution`` m = ``100 * resolution`` cm) in the map's own frame, so a pose in the
-map frame in metres is the same place times 100 in the arena. The polygons are traced
+map frame in metres is the same place times 100 in the arena (a ``yaw`` in ``origin``
+turns the image about its lower-left corner, as the ROS spec says; many ROS nodes ignore it). The polygons are traced
 along the cells and simplified until the arena's limits hold (at most 1000 obstacles and
 20000 obstacle vertices, see :mod:`arenas.io`).
 
@@ -82,10 +83,8 @@ def _checked(data: dict, where: str) -> dict:
         raise ArenaError(f"{where}: 'origin' must be [x, y, yaw] (m, m, rad); got {origin!r}")
     x, y = (_number(v, f"{where}: 'origin' x and y (m)", -MAX_COORD_CM / 100, MAX_COORD_CM / 100)
             for v in origin[:2])
-    yaw = _number(origin[2], f"{where}: 'origin' yaw (rad)", -math.pi, math.pi) if len(origin) == 3 else 0.0
-    if yaw != 0.0:
-        raise ArenaError(f"{where}: 'origin' yaw must be 0 (a rotated map is not read); got {yaw!r}")
-    out["origin_cm"] = (100.0 * x, 100.0 * y)
+    yaw = _number(origin[2], f"{where}: 'origin' yaw (rad)", -2 * math.pi, 2 * math.pi) if len(origin) == 3 else 0.0
+    out["origin_cm"], out["yaw"] = (100.0 * x, 100.0 * y), yaw
     negate = data["negate"]
     if negate not in (0, 1) or isinstance(negate, float):
         raise ArenaError(f"{where}: 'negate' must be 0 or 1; got {negate!r}")
@@ -168,6 +167,11 @@ def _outline(free: np.ndarray, cm_per_px: float, origin_cm: tuple, where: str):
     return poly
 
 
+def _translated(poly, by: tuple):
+    from shapely import affinity
+    return affinity.translate(poly, *by) if any(by) else poly
+
+
 def _within_limits(poly, cm_per_px: float, simplify_cm: float, where: str):
     """`poly` simplified, and its smallest obstacles dropped, until its obstacles are at
     most :data:`MAX_OBSTACLES` with :data:`MAX_VERTICES` vertices together."""
@@ -240,7 +244,11 @@ def from_ros_map(data: dict, folder=".", *, where: str = "ROS map", name: str = 
                          f"per pixel reaches beyond {MAX_COORD_CM / 100:g} m")
     free = free_cells(grey, negate=keys["negate"], occupied_thresh=keys["occupied_thresh"],
                       free_thresh=keys["free_thresh"], mode=keys["mode"], unknown=keys["unknown"])
-    poly = _outline(free, cm_per_px, keys["origin_cm"], where)
+    poly = _outline(free, cm_per_px, (0.0, 0.0), where)
+    if keys["yaw"]:                      # the image turned by yaw about its lower-left corner
+        from shapely import affinity
+        poly = affinity.rotate(poly, keys["yaw"], origin=(0.0, 0.0), use_radians=True)
+    poly = _translated(poly, keys["origin_cm"])
     tol = 0.5 * cm_per_px if simplify_cm is None else _number(simplify_cm, "simplify_cm", 0.0, MAX_COORD_CM)
     poly = _within_limits(poly, cm_per_px, tol, where)
     try:

@@ -116,7 +116,7 @@ def test_the_simplification_keeps_the_arena_limits(tmp_path, monkeypatch):
     ({"occupied_thresh": 1.5}, "'occupied_thresh' must be a number in [0, 1]; got 1.5"),
     ({"negate": 2}, "'negate' must be 0 or 1; got 2"),
     ({"resolution": -0.05}, "'resolution' (m per pixel) must be a number in (0, 1000]"),
-    ({"origin": [0, 0, 0.5]}, "yaw must be 0"),
+    ({"origin": [0, 0, 7]}, "'origin' yaw (rad) must be a number in [-6.28319, 6.28319]; got 7"),
     ({"origin": "here"}, "'origin' must be [x, y, yaw]"),
     ({"mode": "fuzzy"}, "'mode' must be one of trinary, scale, raw; got 'fuzzy'"),
     ({"colour": "red"}, "unknown key(s) ['colour']"),
@@ -160,3 +160,13 @@ def test_a_map_file_may_carry_the_source_and_the_start(tmp_path):
         with pytest.raises(ArenaError) as e:
             arenas.load(_write(tmp_path, _grid(), name="bad", **bad))
         assert words in str(e.value) and "\n" not in str(e.value), str(e.value)
+
+
+def test_a_yaw_turns_the_map_about_its_origin(tmp_path):
+    """The ROS spec: origin is the pose of the lower-left pixel; yaw turns the image about it."""
+    flat = arenas.load(_write(tmp_path, _grid(), origin=[1.0, 2.0, 0.0]))
+    turned = arenas.load(_write(tmp_path, _grid(), name="turned", origin=[1.0, 2.0, np.pi / 2]))
+    x, y = (flat.boundary - [100.0, 200.0]).T                  # about the origin, in cm
+    expect = np.column_stack([100.0 - y, 200.0 + x])           # a quarter turn counter-clockwise
+    assert turned.area == pytest.approx(flat.area)
+    assert np.allclose(np.sort(turned.boundary, axis=0), np.sort(expect, axis=0), atol=1e-6)
