@@ -78,6 +78,12 @@ class Task:
                              dict(self.platform_nominal), dict(self.limits), np.array(self.starts),
                              self.max_steps, reachable))
 
+    def __copy__(self) -> "Task":
+        return self                                  # immutable: a copy in this process is itself
+
+    def __deepcopy__(self, memo) -> "Task":
+        return self
+
     @property
     def n_agents(self) -> int:
         return len(self.starts)

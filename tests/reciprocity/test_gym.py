@@ -190,6 +190,8 @@ def test_observations_and_infos_pickle(env_id):
     if task.reachable is not None:
         with pytest.raises(SearchError, match="another process"):
             task.reachable(np.zeros((1, 2)))
+    import copy
+    assert copy.deepcopy(sent_task).reachable == sent_task.reachable      # in-process copies keep it
     assert back[-1]["success"] == sent[-1]["success"]
 
 
