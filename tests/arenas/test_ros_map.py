@@ -144,10 +144,11 @@ def test_the_command_line_takes_a_map(flag, tmp_path, monkeypatch, capsys):
     assert main(["run", flag, path, "--strategy", "random-walk", "--source", "150,60", "--start=-50,20",
                  "--h", "5", "--set", "n_steps=2", "--quiet"]) == 0
     assert capsys.readouterr().out.splitlines()[-1].startswith("success: no — step cap reached")
-    bad = _write(tmp_path, _grid(), name="bad", free_thresh=0.9)
-    assert main(["run", flag, bad, "--strategy", "random-walk", "--source", "150,60"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("error: ") and "free_thresh" in err[0]
+    for bad, words in ((_write(tmp_path, _grid(), name="bad", free_thresh=0.9), "free_thresh"),
+                       (_write(tmp_path, None, name="lost", image="lost.pgm"), "cannot read image")):
+        assert main(["run", flag, bad, "--strategy", "random-walk", "--source", "150,60"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("error: ") and words in err[0], err
 
 
 def test_a_map_file_may_carry_the_source_and_the_start(tmp_path):
