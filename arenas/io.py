@@ -48,12 +48,14 @@ def builtin_description(name: str) -> str:
 
 
 def load(name_or_path) -> Arena:
-    """Load a built-in arena by name, or an arena YAML file by path.
+    """Load a built-in arena by name, or an arena YAML file by path (an arena file, or a
+    ROS ``map_server`` map, recognised by its keys: see :mod:`arenas.ros_map`).
 
     Parameters
     ----------
     name_or_path : str or os.PathLike
-        A name from :func:`builtin_names` (e.g. ``"paper"``) or a path to a YAML file.
+        A name from :func:`builtin_names` (e.g. ``"paper"``) or a path to a YAML file
+        (an arena file or a ROS map).
 
     Returns
     -------
@@ -82,6 +84,11 @@ def load(name_or_path) -> Arena:
                 f"{', '.join(builtin_names())} (or give the path of a YAML arena file)")
         default_name = src.stem
     data = _read_yaml(src, text)
+    if "image" in data and "resolution" in data:     # a ROS map_server map (ros_map.is_ros_map)
+        from .ros_map import from_ros_map            # OpenCV, imported where a map is read
+        if not isinstance(src, Path):
+            raise ArenaError(f"built-in arena {text!r} cannot be a ROS map")
+        return from_ros_map(data, src.parent, where=f"ROS map {text!r}", name=default_name)
     data.setdefault("name", default_name)
     return from_dict(data, where=text)
 

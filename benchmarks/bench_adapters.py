@@ -78,7 +78,12 @@ def main(argv=None) -> None:
                                        ("reciprocity/Lattice-v0", "ristic-lattice", "rbpf")):
         for seed in range(args.seeds):
             g = gym_episode(env_id, scenario, strategy, seed)
-            c = execute(scenario, strategy, seed=seed)[0].summary
+            drawn = None
+            if env_id == "reciprocity/Poisson-v0":           # it draws source and start per seed
+                from reciprocity.campaign.worker import world_draw
+                from reciprocity.scenarios import load_scenario
+                drawn = world_draw(load_scenario(scenario), seed)
+            c = execute(scenario, strategy, seed=seed, world=drawn)[0].summary
             print(f"| {env_id}, {strategy} | {seed} | {g['n_measurements']} / {c['n_measurements']} | "
                   f"{g['estimate'] == c['estimate']} | {', '.join(differing(g, c)) or 'none'} |")
     print("\n| hajieghrary-voi row | seed | steps PettingZoo / CLI | success | messages | keys that differ |")

@@ -1,7 +1,19 @@
 """A learned policy in our worlds: stable-baselines3 PPO on a small ``Plume-v0``.
 
-    pip install -e ".[gym]" stable-baselines3      # torch: see the README of this folder's repo
+    pip install -e ".[gym]" stable-baselines3
     python examples/ppo_plume.py --timesteps 200000 --out ppo_plume
+
+stable-baselines3 installs PyTorch, a download of several hundred MB (with CUDA
+libraries on Linux); this example needs no GPU, and the CPU-only wheel is smaller:
+``pip install torch --index-url https://download.pytorch.org/whl/cpu`` first.
+
+It takes about 9 minutes on one idle core (``benchmarks/adapters.md``: 200 000 steps,
+ten evaluations of 100 episodes each), torch held to one thread (``--threads 1``, the
+default: the policy is small, and more threads only contend on a shared machine); on a
+busy two-core machine with torch's default threads it took 35-40 minutes. It prints the
+training steps as it goes (every ``--report-every`` steps) and, after each evaluation,
+rewrites ``learning_curve.csv`` and ``learning_curve.png``, so a run stopped early keeps
+its curve so far.
 
 The agent sees the posterior over the source as an image centred on itself
 (``reciprocity.gym.BeliefImage(centred=True)``: otto's exact grid posterior on the 19 x 19
@@ -47,12 +59,14 @@ def make_env():
     return FourMoves(rg.BeliefImage(env, size=19, centred=True))
 
 
-def evaluate(act, seeds, *, strategy: str | None = None) -> tuple[float, float]:
+def evaluate(act, seeds, *, strategy: str | None = None, desc: str = "evaluating") -> tuple[float, float]:
     """Mean steps (a failure counts as the whole budget) and success rate of a policy over
-    `seeds`. `act(observation) -> action`, or `strategy` for a built-in one."""
+    `seeds`. `act(observation) -> action`, or `strategy` for a built-in one. A progress bar
+    over the episodes shows on a terminal."""
+    from tqdm import tqdm
     import reciprocity.gym as rg
     steps, wins = [], 0
-    for seed in seeds:
+    for seed in tqdm(seeds, desc=desc, unit="ep", leave=False, file=sys.stderr, disable=not sys.stderr.isatty()):
         env = make_env()
         policy = rg.StrategyPolicy(strategy, env) if strategy else None
         obs, _ = env.reset(seed=int(seed))
@@ -94,6 +108,31 @@ def plot_curve(rows: list[dict], n_episodes: int, path: Path) -> None:
     plt.close(fig)
 
 
+def write_results(rows: list[dict], n_episodes: int, out: Path) -> None:
+    """``learning_curve.csv`` and ``learning_curve.png`` in `out`, from the evaluations so far."""
+    with open(out / "learning_curve.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    plot_curve(rows, n_episodes, out / "learning_curve.png")
+
+
+def progress_callback(total: int, every: int):
+    """An SB3 callback that prints the steps trained every `every` steps (and the rate)."""
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    class Progress(BaseCallback):
+        def _on_training_start(self) -> None:
+            self.t0, self.n0 = time.perf_counter(), self.num_timesteps
+
+        def _on_step(self) -> bool:
+            if self.num_timesteps % every == 0:
+                rate = (self.num_timesteps - self.n0) / max(time.perf_counter() - self.t0, 1e-9)
+                print(f"  {self.num_timesteps:>8} / {total} steps trained ({rate:.0f} steps/s)", flush=True)
+            return True
+    return Progress()
+
+
 def main(argv=None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--timesteps", type=int, default=200_000)
@@ -101,35 +140,39 @@ def main(argv=None) -> list[dict]:
     ap.add_argument("--eval-seeds", type=int, default=100)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", type=Path, default=Path("ppo_plume"))
+    ap.add_argument("--threads", type=int, default=1, help="torch threads (default 1)")
+    ap.add_argument("--report-every", type=int, default=5_000, help="print the steps trained this often")
     args = ap.parse_args(argv)
     try:
+        import torch
         from stable_baselines3 import PPO
     except ImportError:
         sys.exit("error: this example needs stable-baselines3 (pip install stable-baselines3)")
+    torch.set_num_threads(args.threads)
     args.out.mkdir(parents=True, exist_ok=True)
     seeds = list(range(10_000, 10_000 + args.eval_seeds))       # never trained on: training seeds are drawn
-    info_steps, info_rate = evaluate(None, seeds, strategy="infotaxis")
-    rand_steps, rand_rate = evaluate(random_walk(args.seed), seeds)
-    print(f"infotaxis {info_steps:.1f} steps ({info_rate:.0%}), random walk {rand_steps:.1f} ({rand_rate:.0%})")
+    print(f"references on {len(seeds)} episodes: infotaxis, then a random walk", flush=True)
+    info_steps, info_rate = evaluate(None, seeds, strategy="infotaxis", desc="infotaxis")
+    rand_steps, rand_rate = evaluate(random_walk(args.seed), seeds, desc="random walk")
+    print(f"infotaxis {info_steps:.1f} steps ({info_rate:.0%}), random walk {rand_steps:.1f} ({rand_rate:.0%})",
+          flush=True)
     env = make_env()
     model = PPO("MlpPolicy", env, seed=args.seed, n_steps=1024, batch_size=256, gamma=0.995, verbose=0)
     rows = []
     done_steps, clock = 0, time.perf_counter()
+    report = progress_callback(args.timesteps, args.report_every)
     while True:
-        mean, rate = evaluate(lambda o: int(model.predict(o, deterministic=True)[0]), seeds)
+        mean, rate = evaluate(lambda o: int(model.predict(o, deterministic=True)[0]), seeds, desc="PPO")
         rows.append(dict(timesteps=done_steps, ppo_steps=mean, ppo_success=rate, infotaxis_steps=info_steps,
                          random_steps=rand_steps, wall_s=time.perf_counter() - clock))
-        print(f"{done_steps:>8} steps trained: PPO {mean:.1f} steps ({rate:.0%})", flush=True)
+        write_results(rows, len(seeds), args.out)               # as it goes: a stopped run keeps its curve
+        print(f"{done_steps:>8} steps trained: PPO {mean:.1f} steps ({rate:.0%}), "
+              f"{rows[-1]['wall_s'] / 60:.1f} min; results in {args.out}/", flush=True)
         if done_steps >= args.timesteps:
             break
         chunk = min(args.eval_every, args.timesteps - done_steps)
-        model.learn(chunk, reset_num_timesteps=False)
+        model.learn(chunk, reset_num_timesteps=False, callback=report)
         done_steps += chunk
-    with open(args.out / "learning_curve.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    plot_curve(rows, len(seeds), args.out / "learning_curve.png")
     return rows
 
 

@@ -7,6 +7,7 @@ import json
 import math
 import os
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -80,7 +81,53 @@ def _summary_line(s: dict) -> str:
     sim = f"{s['sim_time_s']:.0f}" if "sim_time_s" in s else "-"
     return (f"{s['strategy']:<12} {s['n_measurements']:>5} {s['n_samples']:>7} "
             f"{s['path_length']:>9.1f} {sim:>7} {s['wall_time_s']:>7.1f} {err:>9}  {est:<18} "
-            f"{s.get('collisions', 0):>4}  {s['stop_reason']}")
+            f"{s.get('collisions', 0):>8}  {s['stop_reason']}")
+
+
+#: A stop reason that is not the strategy's own rule, in words.
+_STOPPED = {"step cap": "step cap reached", "no target": "no admissible place left to go",
+            "unreachable": "what it believes lies out of reach", "gave up": "gave up"}
+
+
+#: Why a lattice search that reached the source failed (Ristic et al. 2014, Sec. 5.1).
+_NOT_LOCALISED = ", but the searcher's own position was not localised"
+
+
+def _verdict(s: dict, radius: float) -> str:
+    """The last line of a run: whether it succeeded and why it stopped, in words.
+
+    Parameters
+    ----------
+    s : dict
+        The episode summary.
+    radius : float
+        The scenario's success radius (cm in arena worlds, the world's unit elsewhere).
+
+    Returns
+    -------
+    str
+        E.g. ``success: no — step cap reached (30 readings)`` or ``success: no —
+        converged, error 5.94 > success radius 5``.
+    """
+    yes = "yes" if s["success"] else "no"
+    reason, _, detail = str(s["stop_reason"]).partition(": ")
+    if not s["converged"]:
+        return f"success: no — {_STOPPED.get(reason, reason)}" + (f" ({detail})" if detail else "")
+    if s["stop"] == "found":
+        line = f"success: {yes} — {detail or 'an observer reached the source'}"
+        return line + _NOT_LOCALISED if s.get("self_localised") is False else line
+    unit = " cm" if s["world"] == "poisson" else ""
+    words = f"converged ({detail})" if detail else "converged"
+    if s.get("errors") is not None:                                 # several sources
+        errors = [e for e in s["errors"] if e is not None]
+        worst = f", worst error {max(errors):.2f}{unit}" if errors else ""
+        return (f"success: {yes} — {words}, {s.get('n_sources_estimated')} sources found of "
+                f"{len(s['errors'])}{worst} (success radius {radius:g}{unit})")
+    if s["error"] is None:
+        return f"success: {yes} — {words}, no estimate"
+    sign = "<=" if s["error"] <= radius else ">"
+    line = f"success: {yes} — {words}, error {s['error']:.2f}{unit} {sign} success radius {radius:g}{unit}"
+    return line + _NOT_LOCALISED if s.get("self_localised") is False else line
 
 
 def _header(world: str = "poisson") -> str:
@@ -88,7 +135,7 @@ def _header(world: str = "poisson") -> str:
     and time is simulated seconds (steps in step-counted worlds)."""
     unit = "cm" if world == "poisson" else "  "
     return (f"{'strategy':<12} {'meas.':>5} {'samples':>7} {'path ' + unit:>9} {'time':>7} {'wall s':>7} "
-            f"{'error ' + unit:>9}  {'estimate':<18} {'hits':>4}  stop")
+            f"{'error ' + unit:>9}  {'estimate':<18} {'contacts':>8}  stop")
 
 
 def _write_figures(out: Path, episode, strategy, platform, arena, *, video: bool = False) -> list[Path]:
@@ -242,6 +289,19 @@ class _Planned:
     options: dict
 
 
+def _random_draw(args, sc) -> dict:
+    """``--random-source``: the true source and the start of an arena scenario, drawn from
+    the episode seed as a campaign's ``random_source: true`` and ``reciprocity/Poisson-v0``
+    draw them."""
+    from .campaign.worker import world_draw
+    if sc.world != "poisson":
+        raise ReciprocityError(f"--random-source draws the source and start in an arena; scenario {sc.name!r} "
+                               f"is a {sc.world} world")
+    if args.source is not None or args.start is not None:
+        raise ReciprocityError("--random-source draws the source and the start: give neither --source nor --start")
+    return world_draw(sc, args.seed)
+
+
 def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
     """Validate one episode's inputs cheaply (no meshing or solving)."""
     from .api import check, strategy_parameters
@@ -252,7 +312,9 @@ def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
     params = dict(params)
     if strategy in STRATEGIES and "h" in strategy_parameters(strategy):
         params.setdefault("h", args.h)
-    sc = load_scenario(scenario)
+    sc = load_scenario(scenario, source=world.get("source"))
+    if getattr(args, "random_source", False):
+        world.update(_random_draw(args, sc))
     options = _params(args.car, "--car", "planner=bank")
     platform = getattr(args, "platform", None)
     if options and (platform or sc.platform) != "car":
@@ -314,14 +376,33 @@ def cmd_run(args) -> int:
     print(_summary_line(episode.summary))
     if out is not None:
         print(f"figures and the full trace are in {out}/")
+    if json_path is not None:
+        print(f"summary written to {json_path}")
+    print(_verdict(episode.summary, plan.scenario.success_radius))
     return 0
 
 
 def cmd_demo(args) -> int:
+    from tqdm import tqdm
     args.set = []
-    plans = [_arena_plan(args, name, {}) for name in ("reciprocity", "gradient")]
+    names = ("reciprocity", "gradient")
+    plans = [_arena_plan(args, name, {}) for name in names]
     out = check_output(args.out, "--out", folder=True, error=ReciprocityError)
-    rows = [_run_one(args, plan, out).summary for plan in plans]
+    if not args.quiet:
+        print(f"demo: the {args.platform} observer searches arena {plans[0].scenario.name!r} with "
+              f"{' and then '.join(names)}; figures into {out}/", flush=True)
+    rows = []
+    # one bar over the runs, and each run's own bar of steps below it (terminals only, as
+    # campaigns): the meshing, solves and car planning before the first step take seconds
+    with tqdm(total=len(plans), desc="demo", unit="run", file=sys.stderr, dynamic_ncols=True,
+              disable=args.quiet or not sys.stderr.isatty()) as bar:
+        for plan in plans:
+            bar.set_postfix_str(plan.strategy)
+            t0 = time.perf_counter()
+            rows.append(_run_one(args, plan, out).summary)
+            bar.update(1)
+            if not args.quiet:
+                bar.write(f"  {plan.strategy}: done in {time.perf_counter() - t0:.0f} s", file=sys.stdout)
     (out / "summary.json").write_text(json.dumps(rows, indent=1))
     src = rows[0]["source"]
     noise = ("sensor noise 12 ADC counts, 1 s dwell" if args.platform == "car"
@@ -329,10 +410,12 @@ def cmd_demo(args) -> int:
     print(f"arena {rows[0]['arena']!r}, source ({src[0]:.2f}, {src[1]:.2f}) cm, start {rows[0]['start'][:2]}, "
           f"{noise}, seed {args.seed}, {args.platform} observer")
     print("time s: simulated driving and measuring time (car); wall s: computing time; "
-          "hits: collisions with walls")
+          "contacts: collisions with walls (the car)")
     print(_header())
     for s in rows:
         print(_summary_line(s))
+    for s, plan in zip(rows, plans):
+        print(f"{s['strategy']}: {_verdict(s, plan.scenario.success_radius)}")
     if rows[0]["arena"] == "paper":
         print("for comparison, the paper's own testbed runs (Landa et al., one run each, not ours): "
               "reciprocity 7 measurements, error 4.35 cm; gradient 8 + 5 gradient measurements = "
@@ -406,6 +489,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--out", help="folder for figures, the full trace (and the video on the car)")
     run.add_argument("--platform", help="observer: point, car, walker (default: the scenario's)")
     run.add_argument("--json", help="write the episode summary (JSON) to this file")
+    run.add_argument("--random-source", action="store_true",
+                     help="draw the true source and the start from --seed (arenas; as reciprocity/Poisson-v0)")
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                      help="strategy parameter, e.g. --set eps=0.1 (repeatable)")
     run.add_argument("--unknown-map", action="store_true",

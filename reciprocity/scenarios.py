@@ -272,6 +272,13 @@ def _read(src, label: str) -> dict:
     data = load_yaml(src, f"scenario file {label!r}", error=SearchError)
     if isinstance(data, dict) and "world" not in data and ("boundary" in data or "disk" in data):
         return _arena_scenario(data, src, label)
+    if arenas.is_ros_map(data) and "world" not in data and isinstance(src, Path):
+        try:                                  # a ROS map_server map: an arena, its image beside it
+            arena = arenas.load(src)
+        except arenas.ArenaError as exc:
+            raise SearchError(str(exc)) from None
+        return {"world": "poisson", "arena": arena, "name": arena.name,
+                "description": str(data.get("description", f"ROS map {label}"))}
     if not isinstance(data, dict) or "world" not in data:
         raise SearchError(f"scenario file {label!r} must be a mapping with a 'world:' kind "
                           f"({', '.join(WORLD_KINDS)}), or an arena file with 'boundary:' or 'disk:'")
@@ -326,9 +333,13 @@ def from_dict(data: dict, name: str = "scenario") -> Scenario:
                     str(text["description"]))
 
 
-def load_scenario(name_or_path) -> Scenario:
+def load_scenario(name_or_path, *, source=None) -> Scenario:
     """The built-in scenario `name_or_path`, one read from a YAML file, or the poisson
     scenario of an :class:`arenas.Arena` (its source, strength and start).
+
+    `source` ``(x, y)`` is the true source of a poisson file that gives none (an arena
+    file or a ROS map without ``source:``; the command line's ``--source``); a file's own
+    source is kept (override it with :meth:`Scenario.with_world`).
 
     Raises
     ------
@@ -346,4 +357,13 @@ def load_scenario(name_or_path) -> Scenario:
     if not path.exists():
         raise SearchError(f"no built-in scenario or file named {text!r}; built-ins are "
                           f"{', '.join(scenario_names())} (or give the path of a YAML scenario file)")
-    return from_dict(_read(path, text), path.stem)
+    data = _read(path, text)
+    if source is not None and data.get("world") == "poisson" and not {"source", "sources"} & set(data):
+        arena = data.get("arena")
+        if isinstance(arena, arenas.Arena):
+            told = arena.source
+        else:
+            told = arena.get("source") if isinstance(arena, dict) else None
+        if told is None:
+            data["source"] = [float(v) for v in source]
+    return from_dict(data, path.stem)

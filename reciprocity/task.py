@@ -19,7 +19,7 @@ from .errors import SearchError
 from .observations import MessageLog, Observation
 from .outcome import Stop
 
-__all__ = ["Task", "Percept", "Report"]
+__all__ = ["Task", "Percept", "Report", "RemoteReachable"]
 
 
 @dataclass(frozen=True)
@@ -68,6 +68,22 @@ class Task:
         starts.setflags(write=False)
         object.__setattr__(self, "starts", starts)
 
+    def __reduce__(self):
+        # A task crosses process boundaries (subprocess vector environments send reset
+        # infos back): read-only mappings do not pickle, so it travels as plain dicts and
+        # is made read-only again on arrival; `reachable` asks the live platform, which
+        # stays in the environment's process (see RemoteReachable).
+        reachable = None if self.reachable is None else RemoteReachable()
+        return (type(self), (self.world, self.scenario, dict(self.world_nominal), self.platform,
+                             dict(self.platform_nominal), dict(self.limits), np.array(self.starts),
+                             self.max_steps, reachable))
+
+    def __copy__(self) -> "Task":
+        return self                                  # immutable: a copy in this process is itself
+
+    def __deepcopy__(self, memo) -> "Task":
+        return self
+
     @property
     def n_agents(self) -> int:
         return len(self.starts)
@@ -80,6 +96,18 @@ class Task:
         if clash:
             raise SearchError(f"the world and the platform both describe {sorted(clash)}")
         return {**self.world_nominal, **self.platform_nominal}
+
+
+class RemoteReachable:
+    """The ``reachable`` of a task copied into another process (e.g. a reset info sent
+    back by a subprocess vector environment): the platform it would ask stays in the
+    environment's process, so calling it raises :class:`~reciprocity.errors.SearchError`
+    instead of answering for a platform it cannot see."""
+
+    def __call__(self, points: np.ndarray) -> np.ndarray:
+        raise SearchError("this task was copied from another process: its reachable set can "
+                          "only be asked where the environment runs (use a synchronous "
+                          "vector environment, or the environment's own task)")
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,8 @@ in this process (``main(argv)``), and must
 - write no file (its working folder and its home are compared before and after, the
   caches of meshes and value functions aside; paths outside named in ``absent`` must
   not appear),
-- answer within :data:`ANSWER_S` seconds.
+- answer within :data:`ANSWER_S` seconds of this process's CPU time (the work it does,
+  which other processes' load does not change; no case is judged by the wall clock).
 
 The cases are data, in ``tests/bad_inputs/`` (each file's header says how it expands):
 ``worlds.yaml`` (scenario files of every world kind, each key mutated), ``arena.yaml``
@@ -21,8 +22,10 @@ the console script, with a timeout and an address-space limit (``subprocess.yaml
 Arena images go through :func:`arenas.from_image` (no command takes an image); those
 cases are in :data:`IMAGE_CASES`.
 
-A case still running after :data:`WATCHDOG_S` is interrupted (SIGALRM) and fails as a
-hang; an address-space limit :data:`MEMORY_HEADROOM` above the process's own size turns
+A case that has used :data:`WATCHDOG_S` CPU seconds is interrupted (SIGPROF) and fails as
+a hang; a case blocked without working (waiting on a file or a socket) is interrupted after
+:data:`SAFETY_S` seconds of the wall clock, a safety net of minutes that load cannot reach
+(a case answers in well under a second of it); an address-space limit :data:`MEMORY_HEADROOM` above the process's own size turns
 a runaway allocation into a MemoryError instead of an exhausted machine.
 
 Cases that fail today are listed in :data:`XFAIL` (strict: a fixed case must leave the
@@ -55,14 +58,19 @@ import pytest
 import yaml
 
 CORPUS = Path(__file__).parent / "bad_inputs"
-#: Every case answers within this many seconds.
+#: Every case answers within this many CPU seconds (its work, not the wall clock).
 ANSWER_S = 5.0
-#: A case still running after this many seconds is stopped and fails as a hang.
+#: A case that has used this many CPU seconds is stopped and fails as a hang.
 WATCHDOG_S = 8.0
+#: A case blocked for this many wall-clock seconds is stopped: a safety net against a
+#: blocking read, far above what any load makes of a case's CPU budget.
+SAFETY_S = 300.0
 #: Address space a case may add to this process, bytes.
 MEMORY_HEADROOM = 3 * 2**30
-#: Subprocess cases: time limit (s) and address-space limit (bytes).
-SUBPROCESS_TIMEOUT_S = 20.0
+#: Subprocess cases: CPU-time limit (s, RLIMIT_CPU), wall-clock safety net (s) and
+#: address-space limit (bytes).
+SUBPROCESS_CPU_S = 20
+SUBPROCESS_TIMEOUT_S = 300.0
 SUBPROCESS_MEMORY = 4 * 2**30
 MISSING = object()
 
@@ -447,23 +455,31 @@ class Hang(BaseException):
 
 @contextlib.contextmanager
 def watchdog(seconds: float):
-    """Interrupt the block with :class:`Hang` after `seconds`, and cap the address space
-    at :data:`MEMORY_HEADROOM` above the current size."""
+    """Interrupt the block with :class:`Hang` once this process has used `seconds` of CPU
+    time (or after :data:`SAFETY_S` of the wall clock, should it block without working),
+    and cap the address space at :data:`MEMORY_HEADROOM` above the current size.
+
+    CPU time measures the work a case does: a machine busy with other processes slows the
+    wall clock, not this count."""
     def ring(signum, frame):
         raise Hang()
 
     old = signal.signal(signal.SIGALRM, ring)
+    old_prof = signal.signal(signal.SIGPROF, ring)
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)
     size = _vm_size()
     if size:
         cap = size + MEMORY_HEADROOM
         resource.setrlimit(resource.RLIMIT_AS, (cap if hard == resource.RLIM_INFINITY else min(cap, hard), hard))
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    signal.setitimer(signal.ITIMER_PROF, seconds)
+    signal.setitimer(signal.ITIMER_REAL, SAFETY_S)
     try:
         yield
     finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, old)
+        signal.signal(signal.SIGPROF, old_prof)
         resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
 
 
@@ -503,7 +519,7 @@ class Outcome:
     code: object = None
     out: str = ""
     err: str = ""
-    seconds: float = 0.0
+    seconds: float = 0.0  # CPU seconds
     raised: str | None = None
     written: list = field(default_factory=list)
     appeared: list = field(default_factory=list)
@@ -532,7 +548,7 @@ def problems(o: Outcome) -> list[str]:
     if o.appeared:
         found.append(f"created {', '.join(o.appeared)}")
     if o.seconds > ANSWER_S and not (o.raised or "").startswith("hang"):
-        found.append(f"slow ({o.seconds:.1f} s)")
+        found.append(f"slow ({o.seconds:.1f} CPU s)")
     return found
 
 
@@ -551,17 +567,17 @@ def run_in_process(case: Case, folder: Path, shared: Shared, capsys, monkeypatch
     before = _snapshot(work, home)
     capsys.readouterr()
     o, shown = Outcome(), []
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     try:
         with watchdog(WATCHDOG_S), _console_warnings() as shown:
             o.code = _main(argv[0])(argv[1:])
     except Hang:
-        o.raised = f"hang (stopped after {WATCHDOG_S:g} s)"
+        o.raised = f"hang (stopped after {WATCHDOG_S:g} CPU s)"
     except SystemExit as exc:
         o.code = exc.code
     except BaseException as exc:  # the finding: a traceback
         o.raised = f"{type(exc).__name__}: {str(exc).splitlines()[0][:120] if str(exc) else ''}"
-    o.seconds = time.perf_counter() - t0
+    o.seconds = time.process_time() - t0
     captured = capsys.readouterr()
     o.out, o.err = captured.out, captured.err + "".join(
         f"{w.filename}:{w.lineno}: {w.category.__name__}: {w.message}\n" for w in shown)
@@ -619,6 +635,13 @@ def _console_script(prog: str) -> list[str]:
 
 def _limit_memory():
     resource.setrlimit(resource.RLIMIT_AS, (SUBPROCESS_MEMORY, SUBPROCESS_MEMORY))
+    resource.setrlimit(resource.RLIMIT_CPU, (SUBPROCESS_CPU_S, SUBPROCESS_CPU_S + 5))
+
+
+def _children_cpu() -> float:
+    """CPU seconds used by this process's finished children."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def run_subprocess(case: Case, folder: Path, shared: Shared) -> Outcome:
@@ -632,7 +655,7 @@ def run_subprocess(case: Case, folder: Path, shared: Shared) -> Outcome:
                PYTHONPATH=os.pathsep.join([root, *filter(None, os.environ.get("PYTHONPATH", "").split(os.pathsep))]))
     before = _snapshot(work, home)
     o = Outcome()
-    t0 = time.perf_counter()
+    t0 = _children_cpu()
     proc = subprocess.Popen(_console_script(argv[0]) + argv[1:], cwd=work, env=env, stdin=subprocess.DEVNULL,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=_limit_memory, start_new_session=True)
@@ -643,8 +666,10 @@ def run_subprocess(case: Case, folder: Path, shared: Shared) -> Outcome:
         os.killpg(proc.pid, signal.SIGKILL)
         o.out, o.err = proc.communicate()
         o.raised = f"hang (killed after {SUBPROCESS_TIMEOUT_S:g} s)"
-    o.seconds = time.perf_counter() - t0
-    if o.code is not None and o.code < 0:
+    o.seconds = _children_cpu() - t0
+    if o.code == -signal.SIGXCPU:
+        o.raised = f"hang (stopped after {SUBPROCESS_CPU_S:g} CPU s)"
+    elif o.code is not None and o.code < 0:
         o.raised = f"killed by signal {-o.code}"
     if "MemoryError" in o.err:
         o.raised = "MemoryError"
@@ -753,18 +778,18 @@ def test_bad_arena_image_raises_arena_error(name, image, kwargs, tmp_path):
     import arenas
     src = _image_file(image, tmp_path) if isinstance(image, str) else image
     kwargs = {"cm_per_px": 1.0, **kwargs}
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     with watchdog(WATCHDOG_S):
         try:
             arenas.from_image(src, **kwargs)
         except arenas.ArenaError as exc:
             message = str(exc)
         except Hang:
-            pytest.fail(f"hang (stopped after {WATCHDOG_S:g} s)")
+            pytest.fail(f"hang (stopped after {WATCHDOG_S:g} CPU s)")
         else:
             pytest.fail("accepted")
     assert message and "\n" not in message
-    assert time.perf_counter() - t0 < ANSWER_S
+    assert time.process_time() - t0 < ANSWER_S
 
 
 # ---------------------------------------------------------------------------------------

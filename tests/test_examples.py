@@ -57,6 +57,9 @@ def test_ppo_plume_environment_and_evaluation(tmp_path):
     rows = [dict(timesteps=t, ppo_steps=s, infotaxis_steps=14.2, random_steps=68.4) for t, s in ((0, 80), (10, 20))]
     mod.plot_curve(rows, 3, tmp_path / "curve.png")
     assert (tmp_path / "curve.png").stat().st_size > 10_000
+    mod.write_results(rows[:1], 3, tmp_path)                # after each evaluation: the curve so far
+    assert (tmp_path / "learning_curve.csv").read_text().splitlines()[1].startswith("0,80,")
+    assert (tmp_path / "learning_curve.png").exists()
     env = mod.make_env()
     obs, _ = env.reset(seed=0)
     assert obs.shape == (1, 37, 37) and env.action_space.n == 4
@@ -71,6 +74,7 @@ def test_ppo_plume_trains_when_stable_baselines3_is_installed(tmp_path):
     rows = load("ppo_plume").main(["--timesteps", "512", "--eval-every", "512", "--eval-seeds", "3",
                                    "--out", str(tmp_path)])
     assert len(rows) == 2 and (tmp_path / "learning_curve.png").exists()
+    assert len((tmp_path / "learning_curve.csv").read_text().splitlines()) == 3
 
 
 def test_every_example_takes_an_output_folder():

@@ -12,6 +12,11 @@ id                            default scenario       action
 ``reciprocity/Filament-v0``   ``farrell``            ``Box [x, y, stop]``: next point, m
 ============================  =====================  ==========================================
 
+``Poisson-v0`` draws a new source and start at every reset, from its seed
+(``random_source=True``), and has a budget of 40 rounds (``max_steps=40``: a failed stop
+pays the rounds left), so that it can be learned; ``random_source=False`` gives the
+arena's own source and start.
+
 Each takes ``scenario=`` (a built-in name or a YAML path) and the scenario's world keys
 as keyword arguments, e.g. ``gymnasium.make("reciprocity/Poisson-v0", scenario="maze",
 noise=20.0)``. :class:`StrategyPolicy` drives any of them with a built-in strategy, and
@@ -30,7 +35,7 @@ __all__ = ["SearchGymEnv", "StrategyPolicy", "BeliefImage", "DeclaringAgent", "S
 
 #: The registered ids and their default arguments.
 IDS = {
-    "reciprocity/Poisson-v0": dict(scenario="paper", platform="point"),
+    "reciprocity/Poisson-v0": dict(scenario="paper", platform="point", random_source=True, max_steps=40),
     "reciprocity/PoissonCar-v0": dict(scenario="paper", platform="car"),
     "reciprocity/Lattice-v0": dict(scenario="ristic-lattice"),
     "reciprocity/Plume-v0": dict(scenario="otto-2d"),

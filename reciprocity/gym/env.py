@@ -100,6 +100,10 @@ class SearchGymEnv(gymnasium.Env):
         Added to the last reward when the episode succeeds (every round costs 1).
     platform_options : dict, optional
         Options of the platform (the car's).
+    random_source : bool
+        Draw the true source and the start afresh at every reset, from the episode seed
+        (arena scenarios; as a campaign's ``random_source: true`` and ``reciprocity run
+        --random-source`` draw them), so that a policy cannot learn one place by heart.
     **world
         The scenario's keys: its world's (``source``, ``strength``, ``noise``,
         ``mismatch``, ``start`` with the heading in radians, ...), ``max_steps`` and
@@ -107,7 +111,9 @@ class SearchGymEnv(gymnasium.Env):
 
     Notes
     -----
-    ``reset(seed=s)`` starts the episode that ``reciprocity run ... --seed s`` starts.
+    ``reset(seed=s)`` starts the episode that ``reciprocity run ... --seed s`` starts
+    (with ``random_source``, ``reciprocity run ... --random-source --seed s``); without a
+    seed, the episode seed is drawn from the environment's own generator.
     The observation is a Dict (``position``, ``reading``, ``time`` and the world's own
     keys); the action is the face's (see :mod:`reciprocity.gym.faces`). The reward is -1
     per round, plus `success_reward` at the end of a successful episode; a failed episode
@@ -121,12 +127,21 @@ class SearchGymEnv(gymnasium.Env):
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
 
     def __init__(self, scenario="paper", *, platform: str | None = None, render_mode: str | None = None,
-                 success_reward: float = SUCCESS_REWARD, platform_options: dict | None = None, **world):
+                 success_reward: float = SUCCESS_REWARD, platform_options: dict | None = None,
+                 random_source: bool = False, **world):
         if render_mode not in (None, "rgb_array"):
             raise SearchError(f"render_mode must be 'rgb_array' or None; got {render_mode!r}")
+        if random_source not in (True, False):
+            raise SearchError(f"random_source must be true or false; got {random_source!r}")
         sc = load_scenario(scenario) if not hasattr(scenario, "kind") else scenario
         sc = sc.with_limits(max_steps=world.pop("max_steps", None), success_radius=world.pop("success_radius", None))
+        if random_source and (sc.world != "poisson" or {"source", "sources", "start"} & set(world)):
+            raise SearchError("random_source draws the source and the start of an arena (poisson) scenario; "
+                              f"scenario {sc.name!r} is a {sc.world} world" if sc.world != "poisson" else
+                              "random_source draws the source and the start: give neither source nor start, "
+                              "or random_source=False")
         self.search = SearchEnv(sc, platform=platform, world=world or None, platform_options=platform_options)
+        self.random_source, self._scenario = bool(random_source), self.search.scenario
         if self.search.n_agents != 1:
             raise SearchError(f"scenario {sc.name!r} has {self.search.n_agents} observers: use "
                               "reciprocity.pettingzoo.parallel_env for several")
@@ -167,6 +182,9 @@ class SearchGymEnv(gymnasium.Env):
         if seed is None:
             seed = int(self.np_random.integers(0, 2**62))
         self.episode_seed = int(seed)
+        if self.random_source:
+            from ..campaign.worker import world_draw
+            self.search.scenario = self._scenario.with_world(world_draw(self._scenario, self.episode_seed))
         self.run = Rollout(self.search, self.agent)
         task = self.run.start(self.episode_seed, options, reset_agent=self.agent is self._own)
         self.summary, self.last_percepts = None, []

@@ -35,10 +35,10 @@ def test_a_killed_campaign_command_resumes_with_no_episode_lost_or_repeated(tmp_
     proc = subprocess.Popen(_command(spec, out), start_new_session=True,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
-        deadline = time.monotonic() + 90
+        deadline = time.monotonic() + 600  # a safety net against a hang, not a speed check
         while not (out / "campaign.json").exists() or not result_files(out):
             assert proc.poll() is None, "the driver ended before its first batch"
-            assert time.monotonic() < deadline, "no batch written in 90 s"
+            assert time.monotonic() < deadline, "no batch written in 10 minutes"
             time.sleep(0.05)
         os.kill(proc.pid, signal.SIGKILL)        # the driver dies mid-campaign
         proc.wait()
@@ -48,7 +48,7 @@ def test_a_killed_campaign_command_resumes_with_no_episode_lost_or_repeated(tmp_
     before = con.execute(f"SELECT count(*) FROM {episodes_sql(out)}").fetchone()[0]
     assert 0 < before < 80
 
-    again = subprocess.run(_command(spec, out), capture_output=True, text=True, timeout=120)
+    again = subprocess.run(_command(spec, out), capture_output=True, text=True, timeout=600)
     assert again.returncode == 0, again.stderr
     assert f"{80 - before} episodes run (0 failed), {before} already in" in again.stdout
 

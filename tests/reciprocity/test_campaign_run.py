@@ -72,7 +72,7 @@ def test_killed_driver_resumes_without_losing_or_repeating(spec_file, reference,
     proc = subprocess.Popen([sys.executable, "-c", DRIVER, str(spec_file), str(out)],
                             start_new_session=True, stderr=subprocess.DEVNULL)
     try:
-        deadline = time.monotonic() + 60
+        deadline = time.monotonic() + 600  # a safety net against a hang, not a speed check
         while len(list(out.glob("**/*.parquet"))) < 3:
             assert proc.poll() is None and time.monotonic() < deadline, "driver ended early"
             time.sleep(0.05)

@@ -25,7 +25,46 @@ def test_run_writes_summary_json_and_figures(tmp_path, capsys, pixels_near):
     assert s["params"]["max_steps"] == 12
     png = tmp_path / "out" / "reciprocity_steps.png"
     assert pixels_near(png, (0, 255, 0), 60) > 20 and pixels_near(png, (255, 0, 0), 60) > 20
-    assert "reciprocity" in capsys.readouterr().out
+    out = capsys.readouterr().out.splitlines()
+    assert "contacts" in out[0].split() and "hits" not in out[0].split()
+    assert out[-2] == f"summary written to {js}"
+    assert out[-1].startswith("success: ") and ("success: yes" in out[-1]) == s["success"]
+
+
+def _summary(**over) -> dict:
+    s = dict(world="poisson", success=False, converged=False, stop="step cap",
+             stop_reason="step cap: max_steps = 30 measurements", error=0.5)
+    return {**s, **over}
+
+
+@pytest.mark.parametrize("summary, line", [
+    (_summary(), "success: no — step cap reached (max_steps = 30 measurements)"),
+    (_summary(stop="gave up", stop_reason="gave up"), "success: no — gave up"),
+    (_summary(converged=True, stop="converged", stop_reason="converged: map mass 0.31", error=5.94,
+              world="filament"),
+     "success: no — converged (map mass 0.31), error 5.94 > success radius 5"),
+    (_summary(converged=True, success=True, stop="converged", stop_reason="converged: region small", error=1.04),
+     "success: yes — converged (region small), error 1.04 cm <= success radius 5 cm"),
+    (_summary(converged=True, success=True, stop="found", stop_reason="found: observer 0 reached the source",
+              world="plume"),
+     "success: yes — observer 0 reached the source"),
+    (_summary(converged=True, stop="found", stop_reason="found: observer 0 reached the source", world="lattice",
+              self_localised=False),
+     "success: no — observer 0 reached the source, but the searcher's own position was not localised"),
+    (_summary(converged=True, stop="converged", stop_reason="converged", errors=[1.0, None],
+              n_sources_estimated=1),
+     "success: no — converged, 1 sources found of 2, worst error 1.00 cm (success radius 5 cm)"),
+])
+def test_the_last_line_says_whether_the_run_succeeded_and_why_it_stopped(summary, line):
+    from reciprocity.cli import _verdict
+    assert _verdict(summary, 5.0) == line
+
+
+def test_a_run_that_reaches_its_step_cap_says_so(capsys):
+    assert main(["run", "--scenario", "ristic-lattice", "--strategy", "random-walk", "--set", "n_steps=3",
+                 "--quiet"]) == 0
+    last = capsys.readouterr().out.splitlines()[-1]
+    assert last.startswith("success: no — step cap reached ("), last
 
 
 @pytest.mark.parametrize("argv, match", [
@@ -191,6 +230,15 @@ def test_the_demo_takes_a_plain_arena_file(tmp_path, monkeypatch, capsys):
     assert all(r["source"] == [70.21, 70.21] for r in rows)
 
 
+def test_the_demo_says_what_it_does_before_and_while_it_runs(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["demo", "--arena", "empty", "--platform", "point", "--h", "5", "--out", "d"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("demo: the point observer searches arena 'empty' with reciprocity and then gradient")
+    assert lines[1].startswith("  reciprocity: done in ") and lines[2].startswith("  gradient: done in ")
+    assert lines[-3].startswith("reciprocity: success: ") and lines[-2].startswith("gradient: success: ")
+
+
 @pytest.mark.parametrize("command", ["scenarios", "strategies", "arenas"])
 def test_a_reader_that_leaves_early_gets_no_traceback(command):
     """`reciprocity scenarios | head -2`: the listing meets a closed pipe and exits quietly."""
@@ -201,7 +249,7 @@ def test_a_reader_that_leaves_early_gets_no_traceback(command):
     os.close(r)                                   # the reader is already gone
     try:
         done = subprocess.run([sys.executable, "-c", f"import sys, reciprocity.cli as c; sys.exit(c.main([{command!r}]))"],
-                              stdout=w, stderr=subprocess.PIPE, text=True, timeout=120)
+                              stdout=w, stderr=subprocess.PIPE, text=True, timeout=600)
     finally:
         os.close(w)
     assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr

@@ -43,7 +43,7 @@ def test_check_env_passes(env_id):
 
 
 @pytest.mark.parametrize("env_id, scenario, strategy, params, world", [
-    ("reciprocity/Poisson-v0", "paper", "reciprocity", {}, {}),
+    ("reciprocity/Poisson-v0", "paper", "reciprocity", {}, {"random_source": False}),
     ("reciprocity/Plume-v0", "otto-2d", "infotaxis", {}, {}),
     ("reciprocity/Plume-v0", "song-100", "infotaxis", {}, {"max_turn": 30}),
     ("reciprocity/Lattice-v0", "ristic-lattice", "rbpf", RBPF, {}),
@@ -54,6 +54,7 @@ def test_strategy_policy_runs_the_cli_episode(env_id, scenario, strategy, params
     time) through Gymnasium as through `reciprocity run`."""
     env = gymnasium.make(env_id, scenario=scenario, **world)
     info, steps = drive(env, rg.StrategyPolicy(strategy, env, **params), seed)
+    world = {k: v for k, v in world.items() if k != "random_source"}
     episode, _, _ = execute(scenario, strategy, seed=seed, params=params, world=world or None)
     assert same_summary(info["summary"], episode.summary) == []
     assert info["n_measurements"] == episode.summary["n_measurements"]
@@ -105,7 +106,7 @@ def test_frames_and_first_actions_do_not_depend_on_the_true_source():
     source is: the truth stays behind the face."""
     outs = []
     for source in ([70.21, 70.21], [110.0, 110.0]):
-        env = gymnasium.make("reciprocity/Poisson-v0", render_mode="rgb_array", source=source)
+        env = gymnasium.make("reciprocity/Poisson-v0", render_mode="rgb_array", source=source, random_source=False)
         policy = rg.StrategyPolicy("reciprocity", env, h=4.0)
         obs, info = env.reset(seed=5)
         policy.reset(5)
@@ -115,7 +116,7 @@ def test_frames_and_first_actions_do_not_depend_on_the_true_source():
 
 
 def test_an_outside_policy_declares_its_estimate_by_stopping():
-    env = gymnasium.make("reciprocity/Poisson-v0", source=[70.0, 70.0])
+    env = gymnasium.make("reciprocity/Poisson-v0", source=[70.0, 70.0], random_source=False)
     obs, _ = env.reset(seed=0)
     obs, reward, terminated, truncated, info = env.step(np.array([30.0, 30.0, 0.0]))
     assert not (terminated or truncated) and reward == -1.0 and obs["reading"][0] != 0.0
@@ -161,3 +162,80 @@ def test_bad_arguments_fail_cleanly():
         policy.reset(2)
     with pytest.raises(SearchError, match="size"):
         rg.BeliefImage(env, size=4)
+
+
+@pytest.mark.parametrize("env_id", sorted(rg.IDS))
+def test_observations_and_infos_pickle(env_id):
+    """What a subprocess vector environment sends back (observations, reset and step
+    infos, the final summary) pickles; the task arrives read-only, without the platform."""
+    import pickle
+    env = gymnasium.make(env_id)
+    obs, info = env.reset(seed=0)
+    sent = [obs, info]
+    env.action_space.seed(0)
+    for action in [*(env.action_space.sample() for _ in range(2)), env.unwrapped.face.stop_action()]:
+        obs, _, terminated, truncated, info = env.step(action)
+        sent += [obs, info]
+        if terminated or truncated:
+            break
+    assert terminated or truncated
+    back = pickle.loads(pickle.dumps(sent))
+    task = back[1]["task"]
+    sent_task = sent[1]["task"]
+    assert (task.world, task.scenario, set(task.world_nominal)) == (sent_task.world, sent_task.scenario,
+                                                                    set(sent_task.world_nominal))
+    assert (task.starts == sent_task.starts).all() and task.max_steps == sent_task.max_steps
+    with pytest.raises(TypeError):
+        task.world_nominal["arena"] = None            # still read-only
+    if task.reachable is not None:
+        with pytest.raises(SearchError, match="another process"):
+            task.reachable(np.zeros((1, 2)))
+    import copy
+    assert copy.deepcopy(sent_task).reachable == sent_task.reachable      # in-process copies keep it
+    assert back[-1]["success"] == sent[-1]["success"]
+
+
+def test_an_async_vector_environment_runs():
+    """gymnasium.make_vec(..., vectorization_mode="async"): two lattice searches in
+    subprocesses, a few steps (SB3's SubprocVecEnv sends the same things)."""
+    envs = gymnasium.make_vec("reciprocity/Lattice-v0", num_envs=2, vectorization_mode="async")
+    try:
+        obs, infos = envs.reset(seed=[0, 1])
+        assert infos["task"][0].world == "lattice"
+        for _ in range(3):
+            obs, reward, terminated, truncated, infos = envs.step(np.array([1, 2]))
+            assert envs.observation_space.contains(obs) and reward.shape == (2,)
+        envs.step(np.array([5, 5]))                  # both stop: the final infos come back too
+    finally:
+        envs.close()
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_poisson_v0_draws_its_source_and_start_as_the_command_line_does(seed, tmp_path):
+    """Poisson-v0 draws the source and the start from the reset seed; StrategyPolicy runs the
+    episode of `reciprocity run --arena paper --random-source --seed s`."""
+    import json
+    from reciprocity.cli import main
+    env = gymnasium.make("reciprocity/Poisson-v0")
+    info, _ = drive(env, rg.StrategyPolicy("reciprocity", env), seed)
+    assert main(["run", "--arena", "paper", "--strategy", "reciprocity", "--random-source", "--seed", str(seed),
+                 "--quiet", "--json", str(tmp_path / "s.json")]) == 0
+    summary = json.loads((tmp_path / "s.json").read_text())
+    assert same_summary(info["summary"], summary) == [] and info["success"]
+
+
+def test_poisson_v0_is_a_new_search_at_every_seed_and_a_failed_stop_costs_the_budget():
+    env = gymnasium.make("reciprocity/Poisson-v0")
+    starts = {tuple(env.reset(seed=s)[1]["task"].starts[0][:2].round(6)) for s in range(5)}
+    assert len(starts) == 5                                          # a new start at every seed
+    assert tuple(env.reset(seed=2)[1]["task"].starts[0][:2].round(6)) in starts   # the seed decides
+    sources = set()
+    for s in range(5):
+        env.reset(seed=s)
+        _, reward, terminated, _, info = env.step(np.array([70.21, 70.21, 1.0]))   # stop at once
+        sources.add(tuple(np.round(info["source"], 6)))
+        assert terminated and (info["success"] or reward == -40.0)  # -1 for each of the 40 rounds
+    assert len(sources) == 5
+    env.reset()                                                      # no seed: the env's own generator
+    with pytest.raises(SearchError, match="random_source"):
+        gymnasium.make("reciprocity/Poisson-v0", source=[30.0, 30.0])

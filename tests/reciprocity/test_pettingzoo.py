@@ -39,3 +39,15 @@ def test_every_observer_stopping_ends_the_episode():
     _, rewards, terminations, truncations, infos = env.step(stop)
     assert all(terminations.values()) and not any(truncations.values()) and env.agents == []
     assert infos["observer_1"]["stop_reason"].startswith("converged")
+
+
+def test_observations_and_infos_pickle():
+    """What a subprocess vector wrapper sends back: observations and infos, reset and final."""
+    import pickle
+    env = parallel_env("hajieghrary")
+    observations, infos = env.reset(seed=0)
+    sent = [observations, infos]
+    stop = {a: env.faces[k].stop_action() for k, a in enumerate(env.possible_agents)}
+    sent += list(env.step(stop))
+    back = pickle.loads(pickle.dumps(sent))
+    assert back[1]["observer_0"]["task"].n_agents == 3 and back[-1]["observer_0"]["summary"]["n_agents"] == 3
