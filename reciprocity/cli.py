@@ -59,7 +59,8 @@ def _params(items: list[str], flag: str = "--set", example: str = "eps=0.1") -> 
 
 def _progress(desc: str):
     """A per-step progress bar on stderr: redrawn in place in a terminal, silent when
-    stderr is not one (a log file, CI)."""
+    stderr is not one (a log file, CI); with the episode's budget as its total, so a long
+    episode shows an estimate of the time left (an upper bound: most stop before it)."""
     from tqdm import tqdm
     bar = tqdm(desc=desc, unit="step", leave=False, file=sys.stderr, disable=not sys.stderr.isatty())
 
@@ -69,7 +70,12 @@ def _progress(desc: str):
         elif len(record.readings):
             bar.set_postfix_str(f"reading {record.readings[-1]:.3g}")
         bar.update(1)
+
+    def set_total(total: int) -> None:
+        bar.total = total
+        bar.refresh()
     update.close = bar.close
+    update.set_total = set_total
     return update
 
 

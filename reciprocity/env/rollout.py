@@ -69,6 +69,8 @@ class Rollout:
         self.records = []
         if reset_agent:
             self.agent.reset(self.task, self.agent_seed)
+        if self.env.max_steps is not None and callable(getattr(self.progress, "set_total", None)):
+            self.progress.set_total(self.env.max_steps * self.env.n_agents)   # one record per observer a round
         return self.task
 
     def advance(self, action) -> bool:

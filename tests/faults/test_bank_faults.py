@@ -114,6 +114,7 @@ BANK_ARGS = ["bank", "--bounds", "0,1,0,1", "--spacing", "0.25", "--rho", "0.2",
              "--ntheta", "32", "--quiet"]
 
 
+@pytest.mark.slow
 def test_a_full_disk_stops_the_bank_at_the_first_failed_write(tmp_path):
     """Defect 9: a full disk left a partial workspace or 96 temporary files, and every
     remaining target was solved before the error."""
@@ -166,6 +167,7 @@ def test_clearing_survives_a_damaged_manifest_and_never_follows_a_link(built, tm
     assert sorted(p.name for p in precious.iterdir()) == ["0000.npz", "bank.json"]   # ... not what it showed
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs /proc to find the workers")
 def test_kill_9_on_a_bank_leaves_no_worker_behind(tmp_path):
     """Defect 8: kill -9 on 'hjplanner bank' orphaned its pool workers (about 160 MB each),

@@ -52,6 +52,7 @@ def folder(tmp_path):
     return out
 
 
+@pytest.mark.slow
 def test_a_scheduler_named_in_a_spec_is_used_only_when_confirmed(tmp_path):
     """Defect 1: a shared spec naming scheduler: tcp://... ran code as its user, unasked."""
     spec = tmp_path / "spec.yaml"
@@ -143,6 +144,7 @@ def test_a_damaged_results_file_is_named_quarantined_and_left_to_rerun(folder, d
     assert r.returncode == 0 and "warning" not in r.stderr         # the folder is sound again
 
 
+@pytest.mark.slow
 def test_resume_reruns_the_episodes_of_a_damaged_file(tmp_path):
     spec = tmp_path / "fast.yaml"
     spec.write_text(FAST.format(seeds=6))
@@ -160,6 +162,7 @@ def test_resume_reruns_the_episodes_of_a_damaged_file(tmp_path):
     assert len(ids) == len(set(ids)) == 6
 
 
+@pytest.mark.slow
 def test_losing_every_worker_ends_the_campaign_and_keeps_what_finished(tmp_path):
     """Defect 7: with every worker of an external scheduler dead the campaign waited with no
     message, and finished rows waited for another result before reaching the disk."""
@@ -192,6 +195,7 @@ def test_losing_every_worker_ends_the_campaign_and_keeps_what_finished(tmp_path)
     assert 0 < n < 800
 
 
+@pytest.mark.slow
 def test_kill_9_on_a_campaign_driver_leaves_no_worker_behind(tmp_path):
     """Process hygiene: the local cluster's workers die with the driver."""
     from process_tree import descendants, kill_9_and_wait
