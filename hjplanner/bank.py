@@ -14,9 +14,9 @@ finds the same files.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
-import contextlib
 import multiprocessing
 import os
 import pickle
