@@ -55,10 +55,23 @@ def default_cache_dir() -> Path:
     return Path(env).expanduser() if env else Path.home() / ".cache" / "hjplanner"
 
 
+def _library_versions() -> dict:
+    """The versions a value function's numbers depend on: this toolkit's and numpy's (an
+    upgrade must not leave a plan depending on a warm cache)."""
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        toolkit = version("reciprocity-search")
+    except PackageNotFoundError:          # run from a source tree that is not installed
+        toolkit = "source"
+    return {"toolkit": toolkit, "numpy": np.__version__}
+
+
 def _digest(geometry: dict, params: dict) -> str:
-    """Hash of the domain's polygons and the parameters (the bank's folder name)."""
+    """Hash of the domain's polygons, the parameters and the libraries' versions (the
+    bank's folder name)."""
     sha = hashlib.sha256()
-    sha.update(json.dumps(dict(params, version=CACHE_VERSION), sort_keys=True).encode())
+    sha.update(json.dumps(dict(params, version=CACHE_VERSION, libraries=_library_versions()),
+                          sort_keys=True).encode())
     for polygon in (geometry["boundary"], *geometry["obstacles"]):
         sha.update(np.ascontiguousarray(polygon, dtype="<f8").tobytes())
         sha.update(b"|")
