@@ -45,7 +45,7 @@ def test_nothing_unpickles():
                            for k in call.keywords)
                 if not safe:
                     bad.append(f"{where}:{call.lineno}: {'.'.join(name)} without allow_pickle=False")
-    assert len(SOURCES) > 100 and loads >= 5          # the walk saw the packages and their loads
+    assert len(SOURCES) > 100 and loads >= 3          # the walk saw the packages and their loads
     assert not bad, bad
 
 
