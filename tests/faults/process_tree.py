@@ -31,6 +31,19 @@ def state(pid: int) -> str:
         return "gone"
 
 
+def kill_9_when(proc, ready, polls: int = 6000) -> tuple[set[int], set[int]]:
+    """Once ``ready()`` (looked at every 0.05 s, at most `polls` times, while `proc` runs),
+    SIGKILL `proc`; return its descendants at that moment and those of them still alive
+    afterwards (see :func:`kill_9_and_wait`). AssertionError if `proc` ends first."""
+    for _ in range(polls):
+        if ready():
+            break
+        assert proc.poll() is None, "the command ended before it could be killed: give it more work"
+        time.sleep(0.05)
+    children = descendants(proc.pid)
+    return children, kill_9_and_wait(proc, children)
+
+
 def kill_9_and_wait(proc, children: set[int], polls: int = 600) -> set[int]:
     """SIGKILL `proc` (a Popen), then the `children` still alive after `polls` looks 0.1 s
     apart (a bound on the wait, not the assertion: the kernel ends them at once)."""

@@ -7,7 +7,6 @@ import os
 import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -15,7 +14,7 @@ import pytest
 from arenas.cache_files import CacheWarning, QUARANTINE
 from hjplanner import PlanningError, ValueFunctionBank
 from hjplanner.bank import cache_info, clear_cache
-from process_tree import descendants, kill_9_and_wait
+from process_tree import descendants, kill_9_when
 
 DOMAIN = ((0.0, 1.0), (0.0, 1.0))
 PARAMS = dict(rho=0.2, h=0.05, ntheta=16)
@@ -175,21 +174,13 @@ def test_kill_9_on_a_bank_leaves_no_worker_behind(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "hjplanner", *BANK_ARGS[:-1], "--h", "0.01", "--ntheta", "64",
                              "--spacing", "0.1", "--cache", str(tmp_path), "--workers", "2", "--quiet"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        workers: set[int] = set()
-        for _ in range(3000):                     # until both workers have written a file
-            workers = descendants(proc.pid)
-            if len(workers) >= 3 and len(list(tmp_path.rglob("0*.npz"))) >= 2:
-                break
-            if proc.poll() is not None:
-                pytest.fail("the bank finished before it could be killed: make it larger")
-            time.sleep(0.05)
-        assert len(workers) >= 2
-        alive = kill_9_and_wait(proc, workers)
-        assert not alive, f"orphans: {alive}"
+    try:                                          # once both workers have written a file
+        workers, alive = kill_9_when(proc, lambda: len(descendants(proc.pid)) >= 3
+                                     and len(list(tmp_path.rglob("0*.npz"))) >= 2)
     finally:
         if proc.poll() is None:
             proc.kill()
+    assert len(workers) >= 2 and not alive, f"orphans: {alive}"
     assert not list(tmp_path.rglob("*.workspace")) and not list(tmp_path.rglob("*.pkl"))
     bank_dir = next(p for p in tmp_path.iterdir() if p.is_dir())
     ValueFunctionBank(DOMAIN, 0.1, cache_dir=tmp_path, rho=0.2, h=0.01, ntheta=64).missing()

@@ -4,7 +4,6 @@ re-run, and finished rows reach the disk on a timer even when every worker is go
 
 Each test names the defect class of issue 34 it closes (items 1, 3, 6, 7, 12)."""
 
-import os
 import subprocess
 import sys
 import threading
@@ -198,22 +197,15 @@ def test_losing_every_worker_ends_the_campaign_and_keeps_what_finished(tmp_path)
 @pytest.mark.slow
 def test_kill_9_on_a_campaign_driver_leaves_no_worker_behind(tmp_path):
     """Process hygiene: the local cluster's workers die with the driver."""
-    from process_tree import descendants, kill_9_and_wait
+    from process_tree import kill_9_when
     spec = tmp_path / "fast.yaml"
     spec.write_text(FAST.format(seeds=400))
     out = tmp_path / "out"
     proc = subprocess.Popen([sys.executable, "-m", "reciprocity.cli", "campaign", str(spec), "--out", str(out),
                              "--workers", "2", "--quiet"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        for _ in range(6000):                       # until the workers have finished episodes
-            if (out / "campaign.json").exists() and result_files(out):
-                break
-            assert proc.poll() is None, "the campaign ended before it could be killed"
-            time.sleep(0.05)
-        workers = descendants(proc.pid)
-        assert len(workers) >= 2
-        alive = kill_9_and_wait(proc, workers)
-        assert not alive, f"orphans: {alive}"
+    try:                                            # once the workers have finished episodes
+        workers, alive = kill_9_when(proc, lambda: (out / "campaign.json").exists() and bool(result_files(out)))
     finally:
         if proc.poll() is None:
             proc.kill()
+    assert len(workers) >= 2 and not alive, f"orphans: {alive}"
