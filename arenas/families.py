@@ -47,7 +47,7 @@ PREFIX = "generate:"
 
 
 @dataclass(frozen=True)
-class Knob:
+class _Knob:
     """One size keyword: its default, bounds and meaning."""
 
     default: float
@@ -61,32 +61,32 @@ class Knob:
         return f"{kind} in [{self.lo:g}, {self.hi:g}]"
 
 
-_SIDE = dict(width=Knob(140.0, 60.0, 400.0, doc="outer width, cm"),
-             height=Knob(140.0, 60.0, 400.0, doc="outer height, cm"),
-             wall=Knob(6.0, 1.0, 20.0, doc="wall thickness, cm"))
+_SIDE = dict(width=_Knob(140.0, 60.0, 400.0, doc="outer width, cm"),
+             height=_Knob(140.0, 60.0, 400.0, doc="outer height, cm"),
+             wall=_Knob(6.0, 1.0, 20.0, doc="wall thickness, cm"))
 
-#: The size keywords of each family (name -> Knob).
-_KNOBS: dict[str, dict[str, Knob]] = {
-    "rooms": {**_SIDE, "cols": Knob(3, 1, 8, True, "rooms across"),
-              "rows": Knob(3, 1, 8, True, "rooms up"),
-              "door": Knob(22.0, MIN_GAP, 100.0, doc="door width, cm"),
-              "loops": Knob(0.25, 0.0, 1.0, doc="share of the walls not on the spanning tree that get a door too")},
-    "spiral": {**_SIDE, "wall": Knob(4.0, 1.0, 20.0, doc="wall thickness, cm"),
-               "turns": Knob(2, 1, 6, True, "full turns of the spiral wall")},
-    "ring": {"radius": Knob(70.0, 30.0, 200.0, doc="radius of the round arena, cm"),
-             "wall": Knob(4.0, 1.0, 20.0, doc="wall thickness, cm"),
-             "rings": Knob(2, 1, 6, True, "concentric C walls"),
-             "gap": Knob(22.0, MIN_GAP, 100.0, doc="opening of each C wall (chord), cm")},
-    "pillars": {**_SIDE, "pillars": Knob(6, 0, 80, True, "pillars"),
-                "pillar": Knob(10.0, 2.0, 30.0, doc="pillar size, cm"),
-                "notch": Knob(0.4, 0.0, 0.6, doc="share of width and height cut from one corner (an L-shaped hall); 0: a rectangle")},
-    "maze": {**_SIDE, "wall": Knob(4.0, 1.0, 20.0, doc="wall thickness, cm"),
-             "cols": Knob(4, 2, 12, True, "cells across"),
-             "rows": Knob(4, 2, 12, True, "cells up"),
-             "loops": Knob(0.0, 0.0, 1.0, doc="share of the remaining inner walls removed (0: a perfect maze, one way between two cells)")},
-    "office": {**_SIDE, "offices": Knob(3, 1, 8, True, "offices on each side of the corridor"),
-               "corridor": Knob(24.0, MIN_GAP, 100.0, doc="corridor width, cm"),
-               "door": Knob(20.0, MIN_GAP, 100.0, doc="door width, cm")},
+#: The size keywords of each family (name -> _Knob).
+_KNOBS: dict[str, dict[str, _Knob]] = {
+    "rooms": {**_SIDE, "cols": _Knob(3, 1, 8, True, "rooms across"),
+              "rows": _Knob(3, 1, 8, True, "rooms up"),
+              "door": _Knob(22.0, MIN_GAP, 100.0, doc="door width, cm"),
+              "loops": _Knob(0.25, 0.0, 1.0, doc="share of the walls not on the spanning tree that get a door too")},
+    "spiral": {**_SIDE, "wall": _Knob(4.0, 1.0, 20.0, doc="wall thickness, cm"),
+               "turns": _Knob(2, 1, 6, True, "full turns of the spiral wall")},
+    "ring": {"radius": _Knob(70.0, 30.0, 200.0, doc="radius of the round arena, cm"),
+             "wall": _Knob(4.0, 1.0, 20.0, doc="wall thickness, cm"),
+             "rings": _Knob(2, 1, 6, True, "concentric C walls"),
+             "gap": _Knob(22.0, MIN_GAP, 100.0, doc="opening of each C wall (chord), cm")},
+    "pillars": {"width": _SIDE["width"], "height": _SIDE["height"], "pillars": _Knob(6, 0, 80, True, "pillars"),
+                "pillar": _Knob(10.0, 2.0, 30.0, doc="pillar size, cm"),
+                "notch": _Knob(0.4, 0.0, 0.6, doc="share of width and height cut from one corner (an L-shaped hall); 0: a rectangle")},
+    "maze": {**_SIDE, "wall": _Knob(4.0, 1.0, 20.0, doc="wall thickness, cm"),
+             "cols": _Knob(4, 2, 12, True, "cells across"),
+             "rows": _Knob(4, 2, 12, True, "cells up"),
+             "loops": _Knob(0.0, 0.0, 1.0, doc="share of the remaining inner walls removed (0: a perfect maze, one way between two cells)")},
+    "office": {**_SIDE, "offices": _Knob(3, 1, 8, True, "offices on each side of the corridor"),
+               "corridor": _Knob(24.0, MIN_GAP, 100.0, doc="corridor width, cm"),
+               "door": _Knob(20.0, MIN_GAP, 100.0, doc="door width, cm")},
 }
 
 #: The families :func:`generate` draws from.
@@ -98,7 +98,7 @@ def size_keys(family: str) -> dict[str, tuple[float, float, float, str]]:
     return {k: (v.default, v.lo, v.hi, v.doc) for k, v in _knobs(family).items()}
 
 
-def _knobs(family) -> dict[str, Knob]:
+def _knobs(family) -> dict[str, _Knob]:
     if not isinstance(family, str) or family not in _KNOBS:
         raise ArenaError(f"family: unknown arena family {family!r}; choose one of {', '.join(FAMILIES)}")
     return _KNOBS[family]
