@@ -61,8 +61,8 @@ class _Knob:
         return f"{kind} in [{self.lo:g}, {self.hi:g}]"
 
 
-_SIDE = dict(width=_Knob(140.0, 60.0, 400.0, doc="outer width, cm"),
-             height=_Knob(140.0, 60.0, 400.0, doc="outer height, cm"),
+_SIDE = dict(width=_Knob(140.0, 60.0, 300.0, doc="outer width, cm"),
+             height=_Knob(140.0, 60.0, 300.0, doc="outer height, cm"),
              wall=_Knob(6.0, 1.0, 20.0, doc="wall thickness, cm"))
 
 #: The size keywords of each family (name -> _Knob).
@@ -73,7 +73,7 @@ _KNOBS: dict[str, dict[str, _Knob]] = {
               "loops": _Knob(0.25, 0.0, 1.0, doc="share of the walls not on the spanning tree that get a door too")},
     "spiral": {**_SIDE, "wall": _Knob(4.0, 1.0, 20.0, doc="wall thickness, cm"),
                "turns": _Knob(2, 1, 6, True, "full turns of the spiral wall")},
-    "ring": {"radius": _Knob(70.0, 30.0, 200.0, doc="radius of the round arena, cm"),
+    "ring": {"radius": _Knob(70.0, 30.0, 150.0, doc="radius of the round arena, cm"),
              "wall": _Knob(4.0, 1.0, 20.0, doc="wall thickness, cm"),
              "rings": _Knob(2, 1, 6, True, "concentric C walls"),
              "gap": _Knob(22.0, MIN_GAP, 100.0, doc="opening of each C wall (chord), cm")},

@@ -99,7 +99,7 @@ def test_size_keys_name_their_bounds():
     (lambda: arenas.generate("rooms", 1, door=3), ["door", "got 3", "[16, 100]"]),
     (lambda: arenas.generate("maze", 1, cols=2.5), ["cols", "an integer in [2, 12]", "2.5"]),
     (lambda: arenas.generate("maze", 1, width=float("nan")), ["width", "nan"]),
-    (lambda: arenas.generate("maze", 1, width="wide"), ["width", "'wide'", "[60, 400]"]),
+    (lambda: arenas.generate("maze", 1, width="wide"), ["width", "'wide'", "[60, 300]"]),
     (lambda: arenas.generate("spiral", 1, turns=5), ["turns=5", "at most 2 turns"]),
     (lambda: arenas.generate("rooms", 1, cols=8), ["cols=8", "fewer rooms"]),
     (lambda: arenas.generate("ring", 1, rings=6), ["rings=6", "at most"]),
