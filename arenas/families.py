@@ -79,11 +79,13 @@ _KNOBS: dict[str, dict[str, _Knob]] = {
              "gap": _Knob(22.0, MIN_GAP, 100.0, doc="opening of each C wall (chord), cm")},
     "pillars": {"width": _SIDE["width"], "height": _SIDE["height"], "pillars": _Knob(6, 0, 80, True, "pillars"),
                 "pillar": _Knob(10.0, 2.0, 30.0, doc="pillar size, cm"),
-                "notch": _Knob(0.4, 0.0, 0.6, doc="share of width and height cut from one corner (an L-shaped hall); 0: a rectangle")},
+                "notch": _Knob(0.4, 0.0, 0.6, doc="share of width and height cut from one corner "
+                               "(an L-shaped hall); 0: a rectangle")},
     "maze": {**_SIDE, "wall": _Knob(4.0, 1.0, 20.0, doc="wall thickness, cm"),
              "cols": _Knob(4, 2, 12, True, "cells across"),
              "rows": _Knob(4, 2, 12, True, "cells up"),
-             "loops": _Knob(0.0, 0.0, 1.0, doc="share of the remaining inner walls removed (0: a perfect maze, one way between two cells)")},
+             "loops": _Knob(0.0, 0.0, 1.0, doc="share of the remaining inner walls removed "
+                            "(0: a perfect maze, one way between two cells)")},
     "office": {**_SIDE, "offices": _Knob(3, 1, 8, True, "offices on each side of the corridor"),
                "corridor": _Knob(24.0, MIN_GAP, 100.0, doc="corridor width, cm"),
                "door": _Knob(20.0, MIN_GAP, 100.0, doc="door width, cm")},
@@ -481,7 +483,7 @@ def from_text(text: str) -> Arena:
         if not eq:
             raise ArenaError(f"arena {text!r}: size {item!r} must be KEY=VALUE with KEY one of "
                              f"{', '.join(_knobs(family))}")
-        size[key.strip()] = _number_text(value, key.strip(), family)
+        size[key.strip()] = _number_text(value)
     return generate(family, seed, **size)
 
 
@@ -492,7 +494,7 @@ def _int_text(value: str, key: str, text: str) -> int:
         raise ArenaError(f"{key}: must be an integer in [0, 2**63 - 1]; got {value!r} in {text!r}") from None
 
 
-def _number_text(value: str, key: str, family: str):
+def _number_text(value: str):
     try:
         v = float(value)
     except ValueError:
