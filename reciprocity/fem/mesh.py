@@ -43,9 +43,23 @@ MESH_TRIANGLES_SLACK = 20_000
 MAX_TRIANGLES = 2_000_000
 
 
-def _rings(arena: Arena, h: float) -> list[np.ndarray]:
-    """Boundary rings of the free region: [exterior, *holes], each (n, 2), not closed."""
-    free = arena.free_region
+#: Spikes of the free region narrower than this (cm) are removed when Triangle fails on
+#: the exact geometry (:func:`_without_spikes`).
+SPIKE_CM = 1e-6
+
+
+def _without_spikes(free):
+    """`free` opened by SPIKE_CM (mitred corners, so nothing else moves): a believed wall
+    laid along the boundary can leave a spike of free space 1e-15 cm wide, on which
+    Triangle runs out of precision (``Triangulation failed``)."""
+    out = free.buffer(-SPIKE_CM, join_style="mitre").buffer(SPIKE_CM, join_style="mitre")
+    return max(getattr(out, "geoms", [out]), key=lambda g: g.area)
+
+
+def _rings(arena: Arena, h: float, free=None) -> list[np.ndarray]:
+    """Boundary rings of the free region (or of `free`): [exterior, *holes], each (n, 2),
+    not closed."""
+    free = arena.free_region if free is None else free
     rings = [np.asarray(free.exterior.coords)[:-1]]
     rings += [np.asarray(r.coords)[:-1] for r in free.interiors]
     if arena.circle is not None and not arena.obstacles:
@@ -124,6 +138,17 @@ def _triangulate(pslg: dict, switches: str, budget: int) -> dict:
     return out
 
 
+def _pslg(arena: Arena, h: float, free) -> dict:
+    """Triangle's input for the free region `free`: vertices, segments and hole points."""
+    rings = _rings(arena, h, free)
+    verts, segs = _segments(rings)
+    pslg = {"vertices": verts, "segments": segs}
+    if len(rings) > 1:
+        from shapely.geometry import Polygon
+        pslg["holes"] = np.array([Polygon(r).representative_point().coords[0] for r in free.interiors])
+    return pslg
+
+
 def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
                      grading_radius: float | None = None, h_min: float | None = None,
                      max_passes: int = 6) -> skfem.MeshTri:
@@ -172,15 +197,11 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
         least = (arena.area * MESH_TRIANGLES_FACTOR / (_AREA_PER_H2 * MAX_TRIANGLES)) ** 0.5
         raise MeshError(f"h={h} cm would need about {n_est:.2g} triangles; use h >= {least:.3g} cm")
     budget = triangle_budget(arena, h)
-    rings = _rings(arena, h)
-    verts, segs = _segments(rings)
-    pslg = {"vertices": verts, "segments": segs}
-    free = arena.free_region
-    if len(rings) > 1:
-        from shapely.geometry import Polygon
-        pslg["holes"] = np.array([Polygon(r).representative_point().coords[0]
-                                  for r in free.interiors])
-    mesh = _triangulate(pslg, f"pq30a{_AREA_PER_H2 * h * h:.10g}", budget)
+    switches = f"pq30a{_AREA_PER_H2 * h * h:.10g}"
+    try:
+        mesh = _triangulate(_pslg(arena, h, arena.free_region), switches, budget)
+    except MeshError:
+        mesh = _triangulate(_pslg(arena, h, _without_spikes(arena.free_region)), switches, budget)
     corners = reentrant_corners(arena)
     if grading and len(corners):
         radius = grading_radius or 8.0 * h
@@ -198,7 +219,10 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
             if np.sum(np.maximum(now / area, 1.0)) > budget:
                 break
             mesh["triangle_max_area"] = area
-            mesh = _triangulate(mesh, "rpq30a", budget)
+            try:
+                mesh = _triangulate(mesh, "rpq30a", budget)
+            except MeshError:
+                break                   # the mesh of the last pass, less graded
     p, t = mesh["vertices"], mesh["triangles"]
     return skfem.MeshTri(np.ascontiguousarray(p.T), np.ascontiguousarray(t.T))
 

@@ -106,3 +106,27 @@ def test_a_known_map_episode_has_no_remesh_record():
     env = SearchEnv("empty")
     ep = rollout(env, StrategyAgent(STRATEGIES["reciprocity"], {"h": 4.0, "max_steps": 2}), seed=0)
     assert "remesh_failures" not in ep.summary
+
+
+def test_a_spike_of_no_width_is_removed_and_nothing_else():
+    from shapely.geometry import Polygon
+    spiky = Polygon([(0, 0), (10, 0), (10, 5), (15, 5), (10, 5 + 1e-15), (10, 10), (0, 10)])
+    clean = fem_mesh._without_spikes(spiky)
+    assert np.asarray(clean.exterior.coords)[:, 0].max() == pytest.approx(10.0)
+    assert clean.area == pytest.approx(100.0) and clean.symmetric_difference(spiky).area < 1e-9
+
+
+def test_meshing_retries_without_spikes_when_triangle_fails(monkeypatch):
+    """On a believed ring arena, Triangle ran out of precision on a spike 4e-15 cm wide
+    (a wall laid along the boundary); the exact geometry is tried first."""
+    import triangle
+    real, calls = triangle.triangulate, []
+
+    def first_fails(pslg, switches):
+        calls.append(switches)
+        if len(calls) == 1:
+            raise RuntimeError("Triangulation failed")
+        return real(pslg, switches)
+    monkeypatch.setattr(triangle, "triangulate", first_fails)
+    mesh = mesh_free_region(arenas.load("maze"), 3.0, grading=None)
+    assert len(calls) == 2 and mesh.t.shape[1] > 100
