@@ -16,6 +16,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={
     "camera": ["Observation", "OverheadCamera"],
     "car": ["Car", "CarSpec", "car_footprint"],
     "errors": ["ArenaError"],
+    "families": ["FAMILIES", "generate"],
     "floor": ["FLOOR_FORMAT", "Floor", "GreyMapping", "render_floor"],
     "frames": ["pixel_to_world", "world_to_pixel"],
     "geometry": ["DEFAULT_STRENGTH", "Arena", "as_points"],

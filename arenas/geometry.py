@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from numbers import Real
 from functools import cached_property
@@ -82,7 +83,11 @@ def _polygon(vertices, what: str) -> np.ndarray:
     return v
 
 
-_GEOMETRY: dict = {}
+#: Geometries kept by :meth:`Arena.without_scenario`, least recently used dropped first
+#: (believed arenas of an unknown map are new at every change; unbounded, a long
+#: campaign kept every one).
+GEOMETRY_CACHE_SIZE = 64
+_GEOMETRY: OrderedDict = OrderedDict()
 
 
 def _geometry_only(arena: "Arena") -> "Arena":
@@ -91,6 +96,9 @@ def _geometry_only(arena: "Arena") -> "Arena":
     if key not in _GEOMETRY:
         _GEOMETRY[key] = Arena(arena.boundary, arena.obstacles, arena.name, None,
                                DEFAULT_STRENGTH, None, arena.circle)
+        while len(_GEOMETRY) > GEOMETRY_CACHE_SIZE:
+            _GEOMETRY.popitem(last=False)
+    _GEOMETRY.move_to_end(key)
     return _GEOMETRY[key]
 
 

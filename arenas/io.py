@@ -27,6 +27,7 @@ import yaml
 
 from .errors import ArenaError
 from .files import load_yaml
+from .families import PREFIX, from_mapping, from_text
 from .geometry import DEFAULT_STRENGTH, MAX_COORD_CM, MAX_STRENGTH, Arena
 from .poses import pose_from_degrees, pose_to_degrees
 
@@ -54,8 +55,9 @@ def load(name_or_path) -> Arena:
     Parameters
     ----------
     name_or_path : str or os.PathLike
-        A name from :func:`builtin_names` (e.g. ``"paper"``) or a path to a YAML file
-        (an arena file or a ROS map).
+        A name from :func:`builtin_names` (e.g. ``"paper"``), a generated arena
+        ``generate:FAMILY[:SEED[:KEY=VALUE,...]]`` (:func:`arenas.families.from_text`), or
+        a path to a YAML file (an arena file or a ROS map).
 
     Returns
     -------
@@ -73,6 +75,8 @@ def load(name_or_path) -> Arena:
     19600.0
     """
     text = str(name_or_path)
+    if text.startswith(PREFIX):
+        return from_text(text)
     if text in builtin_names():
         src = resources.files("arenas") / "data" / f"{text}.yaml"
         default_name = text
@@ -123,7 +127,11 @@ def _coords(value, key: str, where: str, shape_hint: str) -> np.ndarray:
 
 
 def from_dict(data: dict, where: str = "arena") -> Arena:
-    """Build an :class:`Arena` from the mapping of an arena file (see module doc)."""
+    """Build an :class:`Arena` from the mapping of an arena file (see module doc), or a
+    generated one from ``{generate: FAMILY, seed: N, KEY: VALUE, ...}``
+    (:func:`arenas.generate`)."""
+    if "generate" in data:
+        return from_mapping(data, where)
     unknown = set(data) - _KEYS
     if unknown:
         raise ArenaError(f"{where}: unknown key(s) {sorted(unknown)}; allowed keys are "

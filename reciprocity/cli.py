@@ -13,6 +13,7 @@ from pathlib import Path
 
 import arenas
 from arenas import ArenaError
+from arenas.families import PREFIX as GENERATED
 from arenas.files import check_output, parse_yaml
 from arenas.poses import pose_from_degrees
 
@@ -354,9 +355,11 @@ def _run_one(args, plan: _Planned, out: Path | None):
 
 def _arena_plan(args, strategy: str, params: dict) -> _Planned:
     """:func:`_plan` for ``--arena``: a built-in arena or an arena file (a poisson scenario)."""
-    if args.arena not in arenas.builtin_names() and not Path(args.arena).exists():
+    generated = args.arena.startswith(GENERATED)
+    if args.arena not in arenas.builtin_names() and not generated and not Path(args.arena).exists():
         raise ReciprocityError(f"--arena: no built-in arena or file named {args.arena!r}; built-ins are "
-                               f"{', '.join(arenas.builtin_names())} (or give the path of an arena YAML file)")
+                               f"{', '.join(arenas.builtin_names())} (or give the path of an arena YAML file, "
+                               f"or generate:FAMILY:SEED with FAMILY one of {', '.join(arenas.FAMILIES)})")
     plan = _plan(args, args.arena, strategy, params)
     if plan.scenario.world != "poisson":
         raise ReciprocityError(f"--arena {args.arena!r} is a {plan.scenario.world} scenario, not an arena; "
@@ -488,7 +491,8 @@ def build_parser() -> argparse.ArgumentParser:
                    ).set_defaults(func=cmd_strategies)
     run = sub.add_parser("run", help="run one search episode")
     where = run.add_mutually_exclusive_group()
-    where.add_argument("--arena", help="built-in arena name or arena YAML file (a poisson scenario)")
+    where.add_argument("--arena", help="built-in arena name, arena YAML file, or a generated arena "
+                       "generate:FAMILY[:SEED[:KEY=VALUE,...]], e.g. --arena generate:rooms:3 (a poisson scenario)")
     where.add_argument("--scenario", help="built-in scenario name or scenario YAML file")
     run.add_argument("--strategy", required=True, help="strategy name (see `reciprocity strategies`)")
     run.add_argument("--agents", type=int, help="number of observers (multi-agent strategies)")
@@ -509,7 +513,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.set_defaults(func=cmd_run)
     demo = sub.add_parser("demo", help="both strategies on the paper arena (or another), with figures")
     demo.add_argument("--out", default="demo_out", help="output folder (default demo_out)")
-    demo.add_argument("--arena", default="paper", help="built-in arena name or arena YAML file (default paper)")
+    demo.add_argument("--arena", default="paper", help="built-in arena name, arena YAML file or "
+                      "generate:FAMILY[:SEED[:KEY=VALUE,...]] (default paper)")
     demo.add_argument("--platform", choices=("point", "car"), default="car",
                       help="observer: the simulated micro-car (default) or a point")
     _common(demo)

@@ -4,7 +4,8 @@ A scenario file is YAML (safe-loaded)::
 
     description: the paper arena with walls 2 mm off and a 20 % stronger source
     world: poisson            # the world kind: poisson, lattice, plume, filament, ...
-    arena: paper              # ... then that world's own parameters
+    arena: paper              # ... then that world's own parameters; a generated arena is
+                              # {generate: rooms, seed: 3} (+ size keys, see arenas.generate)
     source: [70.21, 70.21]
     noise: 12
     mismatch: {strength_factor: 1.2, wall_shift: 0.2}
@@ -31,6 +32,7 @@ from numbers import Real
 
 import numpy as np
 import arenas
+from arenas.families import PREFIX as GENERATED
 from arenas.files import load_yaml
 from arenas.poses import pose_from_degrees
 
@@ -162,6 +164,10 @@ class Scenario:
         if "start" in over:
             starts = _starts(over.pop("start"), f"scenario {self.name!r}", degrees=False)
         params = dict(self.params)
+        # another arena brings its own source (the old one may lie in its walls)
+        if over.get("arena") is not None and over.get("source") is None and over.get("sources") is None:
+            for key in ("source", "sources", "strengths"):
+                params.pop(key, None)
         # one source given replaces several, and several replace one (with their strengths)
         if over.get("source") is not None:
             params.pop("sources", None)
@@ -334,8 +340,10 @@ def from_dict(data: dict, name: str = "scenario") -> Scenario:
 
 
 def load_scenario(name_or_path, *, source=None) -> Scenario:
-    """The built-in scenario `name_or_path`, one read from a YAML file, or the poisson
-    scenario of an :class:`arenas.Arena` (its source, strength and start).
+    """The built-in scenario `name_or_path`, one read from a YAML file, a generated arena
+    ``generate:FAMILY[:SEED[:KEY=VALUE,...]]`` (:func:`arenas.generate`; the scenario is
+    named after the arena, e.g. ``rooms-3``), or the poisson scenario of an
+    :class:`arenas.Arena` (its source, strength and start).
 
     `source` ``(x, y)`` is the true source of a poisson file that gives none (an arena
     file or a ROS map without ``source:``; the command line's ``--source``); a file's own
@@ -349,6 +357,12 @@ def load_scenario(name_or_path, *, source=None) -> Scenario:
     if isinstance(name_or_path, arenas.Arena):      # an arena built in Python: a poisson scenario
         return from_dict({"world": "poisson", "arena": name_or_path, "name": name_or_path.name})
     text = str(name_or_path)
+    if text.startswith(GENERATED):                  # generate:FAMILY[:SEED[:KEY=VALUE,...]]
+        try:
+            arena = arenas.load(text)
+        except arenas.ArenaError as exc:
+            raise SearchError(f"{text}: {exc}") from None
+        return from_dict({"world": "poisson", "arena": arena, "name": arena.name})
     if text in arenas.builtin_names():
         return from_dict({"world": "poisson", "arena": text, "name": text})
     if text in _scenario_files():

@@ -161,6 +161,9 @@ class Report:
         the nominal world above 1); None: the one `estimate`.
     estimates_sd : ndarray or None, shape (k,)
         The uncertainty of each of `estimates` (cm: the standard deviation of its belief).
+    notes : dict
+        What the agent records about its own run, added to the summary (e.g.
+        ``remesh_failures`` on an unknown map); a key of the summary's own is refused.
     """
 
     strategy: str
@@ -176,3 +179,4 @@ class Report:
     agents: int | None = 1
     estimates: np.ndarray | None = None
     estimates_sd: np.ndarray | None = None
+    notes: dict = field(default_factory=dict)

@@ -27,6 +27,8 @@ cap, duplicate keys refused)::
       - name: farrell
         random_start: true         # optional: ignore the scenario's start (see below)
       - my_arena.yaml              # a plain arena file (boundary, obstacles, source, ...)
+      - generate:rooms:3           # a generated arena (arenas.generate), labelled rooms-3;
+                                   # generate:maze:7:cols=6,rows=6 sets size keys
     scheduler:                     # optional: a running Dask scheduler (see
       address: tls://10.0.0.5:8786 # reciprocity.campaign.cluster); --workers or
       tls:                         # --scheduler on the command line win
@@ -73,6 +75,7 @@ from pathlib import Path
 
 import numpy as np
 
+from arenas.families import PREFIX as GENERATED
 from arenas.files import load_yaml, read_text
 from arenas.poses import pose_from_degrees
 
@@ -530,7 +533,8 @@ def _scenarios(scenarios, random_source: bool, base_dir: Path) -> list[ScenarioE
             raise SearchError(f"unknown key(s) {', '.join(map(repr, unknown))} in scenario "
                               f"{entry['name']!r}; allowed: {', '.join(sorted(_SCENARIO_KEYS))}")
         ref, digest = _resolve_scenario(str(entry["name"]), base_dir)
-        default_label = ref if digest is None else Path(ref).stem
+        default_label = Path(ref).stem if digest is not None else (
+            load_scenario(ref).name if ref.startswith(GENERATED) else ref)
         label = _label(entry.get("label", default_label), "scenario label")
         world = entry.get("world") or {}
         if not isinstance(world, Mapping):
@@ -556,7 +560,7 @@ def _scenarios(scenarios, random_source: bool, base_dir: Path) -> list[ScenarioE
 
 
 def _resolve_scenario(name: str, base_dir: Path) -> tuple[str, str | None]:
-    if name in scenario_names():
+    if name in scenario_names() or name.startswith(GENERATED):
         return name, None
     path = Path(name) if Path(name).is_absolute() else base_dir / name
     if not path.exists():

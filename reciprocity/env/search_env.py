@@ -216,6 +216,10 @@ class SearchEnv:
             source_reachable=self._source_reachable,
             platform=plats[0].name, **world.describe(), **world.describe_start(self._starts[0]),
             **plats[0].summary())
+        clash = set(report.notes) & set(summary)
+        if clash:
+            raise SearchError(f"the agent's note(s) {sorted(clash)} clash with the summary's keys")
+        summary.update(report.notes)
         if len(plats) > 1 or report.agents != 1:
             summary.update(n_agents=len(plats), messages=len(report.messages), starts=self._starts.tolist())
         true = np.array([p.true_position[:2] for p in plats], dtype=float)

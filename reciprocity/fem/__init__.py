@@ -16,5 +16,6 @@ __getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={
     "exact": ["disk_green", "free_space_green"],
     "green": ["Field", "GreenSolver", "GREEN_CACHE_SIZE"],
     "disk_cache": ["cache_dir"],
-    "mesh": ["cached_mesh", "mesh_free_region", "node_areas", "reentrant_corners", "triangle_areas"],
+    "mesh": ["MAX_TRIANGLES", "cached_mesh", "mesh_free_region", "node_areas", "reentrant_corners", "triangle_areas",
+             "triangle_budget"],
 })

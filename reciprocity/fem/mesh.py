@@ -25,16 +25,41 @@ if TYPE_CHECKING:
 # scikit-fem and Triangle are imported by the functions that mesh, so that the nodal
 # helpers below and the modules importing this one load without them (issue 24).
 
-__all__ = ["mesh_free_region", "cached_mesh", "reentrant_corners", "triangle_areas", "node_areas"]
+__all__ = ["mesh_free_region", "cached_mesh", "reentrant_corners", "triangle_areas", "node_areas",
+           "triangle_budget", "MAX_TRIANGLES"]
 
 # Triangle's max-area bound giving a mean edge length close to h with 30-degree quality
 # (measured: an area bound of sqrt(3)/4 h^2 yields a mean edge of 0.82 h)
 _AREA_PER_H2 = 0.65
+#: A mesh has at most this many times the triangles of a uniform mesh of size h over the
+#: free area (plus MESH_TRIANGLES_SLACK): grading toward corners and small features may
+#: add that much, never more. Triangle is told the bound (its ``S`` switch caps the points
+#: it adds), so a geometry with hundreds of corners or sliver gaps, such as believed walls
+#: traced from an occupancy grid, is meshed less finely near them instead of without end.
+MESH_TRIANGLES_FACTOR = 4.0
+#: Triangles allowed beyond the factor (small arenas, many input vertices).
+MESH_TRIANGLES_SLACK = 20_000
+#: Most triangles of any mesh (about 1 GB for the solver of a P1 mesh this size).
+MAX_TRIANGLES = 2_000_000
 
 
-def _rings(arena: Arena, h: float) -> list[np.ndarray]:
-    """Boundary rings of the free region: [exterior, *holes], each (n, 2), not closed."""
-    free = arena.free_region
+#: Spikes of the free region narrower than this (cm) are removed when Triangle fails on
+#: the exact geometry (:func:`_without_spikes`).
+SPIKE_CM = 1e-6
+
+
+def _without_spikes(free):
+    """`free` opened by SPIKE_CM (mitred corners, so nothing else moves): a believed wall
+    laid along the boundary can leave a spike of free space 1e-15 cm wide, on which
+    Triangle runs out of precision (``Triangulation failed``)."""
+    out = free.buffer(-SPIKE_CM, join_style="mitre").buffer(SPIKE_CM, join_style="mitre")
+    return max(getattr(out, "geoms", [out]), key=lambda g: g.area)
+
+
+def _rings(arena: Arena, h: float, free=None) -> list[np.ndarray]:
+    """Boundary rings of the free region (or of `free`): [exterior, *holes], each (n, 2),
+    not closed."""
+    free = arena.free_region if free is None else free
     rings = [np.asarray(free.exterior.coords)[:-1]]
     rings += [np.asarray(r.coords)[:-1] for r in free.interiors]
     if arena.circle is not None and not arena.obstacles:
@@ -88,6 +113,42 @@ def _segments(rings: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     return np.vstack(verts), np.vstack(segs)
 
 
+def triangle_budget(arena: Arena, h: float) -> int:
+    """Most triangles a mesh of `arena` at size `h` (cm) may have: MESH_TRIANGLES_FACTOR
+    times a uniform mesh's over the free area, plus MESH_TRIANGLES_SLACK and twice the
+    input vertices, at most MAX_TRIANGLES."""
+    n_vertices = len(arena.boundary) + sum(len(o) for o in arena.obstacles)
+    uniform = arena.area / (_AREA_PER_H2 * h * h)
+    return int(min(MESH_TRIANGLES_FACTOR * uniform + MESH_TRIANGLES_SLACK + 2 * n_vertices, MAX_TRIANGLES))
+
+
+def _triangulate(pslg: dict, switches: str, budget: int) -> dict:
+    """Triangle with at most `budget` triangles (its ``S`` switch bounds the added points;
+    a triangulation has fewer than twice its points), its failures as MeshError."""
+    import triangle
+    n_in = len(pslg["vertices"])
+    steiner = max(budget // 2 - n_in, 0)
+    try:
+        out = triangle.triangulate(pslg, f"{switches}S{steiner}")
+    except (RuntimeError, ValueError, MemoryError) as exc:
+        raise MeshError(f"Triangle could not mesh the free region ({exc}); the geometry has "
+                        f"{n_in} vertices") from None
+    if "triangles" not in out or len(out["triangles"]) == 0:
+        raise MeshError("Triangle produced no elements; check the arena geometry")
+    return out
+
+
+def _pslg(arena: Arena, h: float, free) -> dict:
+    """Triangle's input for the free region `free`: vertices, segments and hole points."""
+    rings = _rings(arena, h, free)
+    verts, segs = _segments(rings)
+    pslg = {"vertices": verts, "segments": segs}
+    if len(rings) > 1:
+        from shapely.geometry import Polygon
+        pslg["holes"] = np.array([Polygon(r).representative_point().coords[0] for r in free.interiors])
+    return pslg
+
+
 def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
                      grading_radius: float | None = None, h_min: float | None = None,
                      max_passes: int = 6) -> skfem.MeshTri:
@@ -113,10 +174,16 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
     Returns
     -------
     skfem.MeshTri
-        Nodes in cm.
+        Nodes in cm; at most :func:`triangle_budget` triangles (grading stops, and
+        Triangle adds no more points, at the budget).
+
+    Raises
+    ------
+    MeshError
+        A mesh size out of range, a uniform mesh over the budget, or a geometry Triangle
+        cannot mesh.
     """
     import skfem
-    import triangle
     from scipy.spatial import cKDTree
     if not np.isfinite(h) or h <= 0:
         raise MeshError(f"mesh size h must be a positive length in cm; got {h!r}")
@@ -126,17 +193,15 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
         raise MeshError(f"mesh size h={h} cm is too coarse for an arena {size:.3g} cm across; "
                         f"use h <= {size / 4:.3g}")
     n_est = arena.area / (_AREA_PER_H2 * h * h)
-    if n_est > 5e6:
-        raise MeshError(f"h={h} cm would need about {n_est:.2g} triangles; use a larger h")
-    rings = _rings(arena, h)
-    verts, segs = _segments(rings)
-    pslg = {"vertices": verts, "segments": segs}
-    free = arena.free_region
-    if len(rings) > 1:
-        from shapely.geometry import Polygon
-        pslg["holes"] = np.array([Polygon(r).representative_point().coords[0]
-                                  for r in free.interiors])
-    mesh = triangle.triangulate(pslg, f"pq30a{_AREA_PER_H2 * h * h:.10g}")
+    if n_est > MAX_TRIANGLES / MESH_TRIANGLES_FACTOR:
+        least = (arena.area * MESH_TRIANGLES_FACTOR / (_AREA_PER_H2 * MAX_TRIANGLES)) ** 0.5
+        raise MeshError(f"h={h} cm would need about {n_est:.2g} triangles; use h >= {least:.3g} cm")
+    budget = triangle_budget(arena, h)
+    switches = f"pq30a{_AREA_PER_H2 * h * h:.10g}"
+    try:
+        mesh = _triangulate(_pslg(arena, h, arena.free_region), switches, budget)
+    except MeshError:
+        mesh = _triangulate(_pslg(arena, h, _without_spikes(arena.free_region)), switches, budget)
     corners = reentrant_corners(arena)
     if grading and len(corners):
         radius = grading_radius or 8.0 * h
@@ -147,13 +212,18 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
             r = tree.query(p[t].mean(axis=1))[0]
             target = h * np.clip((r / radius) ** grading, hmin / h, 1.0)
             area = _AREA_PER_H2 * target**2
-            if np.all(triangle_areas(p, t) <= 1.5 * area):
+            now = triangle_areas(p, t)
+            if np.all(now <= 1.5 * area):
+                break
+            # the pass would make about sum(now / area) triangles: stop grading at the budget
+            if np.sum(np.maximum(now / area, 1.0)) > budget:
                 break
             mesh["triangle_max_area"] = area
-            mesh = triangle.triangulate(mesh, "rpq30a")
+            try:
+                mesh = _triangulate(mesh, "rpq30a", budget)
+            except MeshError:
+                break                   # the mesh of the last pass, less graded
     p, t = mesh["vertices"], mesh["triangles"]
-    if len(t) == 0:
-        raise MeshError("Triangle produced no elements; check the arena geometry")
     return skfem.MeshTri(np.ascontiguousarray(p.T), np.ascontiguousarray(t.T))
 
 

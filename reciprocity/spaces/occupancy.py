@@ -16,6 +16,8 @@ and observation points are chosen in seen-free space only.
 from __future__ import annotations
 
 import numpy as np
+import shapely
+from shapely.errors import GEOSException
 from shapely.geometry import Polygon
 from shapely.ops import unary_union
 
@@ -23,7 +25,7 @@ from arenas import Arena, ArenaError
 
 from ..errors import SearchError
 
-__all__ = ["OccupancyGrid", "L_FREE", "L_OCCUPIED", "L_MAX", "MIN_CHANGE_CM2"]
+__all__ = ["OccupancyGrid", "L_FREE", "L_OCCUPIED", "L_MAX", "MIN_CHANGE_CM2", "MAX_BELIEVED_VERTICES"]
 
 #: Log-odds added to a cell seen free by one scan (a free beam through it).
 L_FREE = -0.4
@@ -42,6 +44,17 @@ BOUNDARY_CELLS = 1.5
 #: Cells within this many cells of a place the observer scanned from are never believed
 #: walls (it stood there): its readings stay inside the believed free region.
 VISITED_CELLS = 2.5
+#: Most vertices of the believed obstacles together: the traced walls are simplified
+#: (tolerance doubled from 0.3 cell up to MAX_SIMPLIFY_CELLS cells) until they fit, so a
+#: believed arena meshes like a user's arena of that size, whatever the grid shows.
+MAX_BELIEVED_VERTICES = 1500
+#: Largest simplification tolerance, cells; walls still over the budget beyond it are
+#: refused (the believed arena stays what it was).
+MAX_SIMPLIFY_CELLS = 4.0
+#: Free slivers narrower than this many cells (between believed walls, or a wall and the
+#: boundary) are closed before meshing: no observer passes them, and a mesh would need
+#: triangles that small there.
+SLIVER_CELLS = 0.5
 
 
 class OccupancyGrid:
@@ -233,7 +246,8 @@ class OccupancyGrid:
         return self.inside & ~free
 
     def believed_geometry(self):
-        """The believed obstacles as one shapely geometry (cm), cut to the boundary."""
+        """The believed obstacles as one shapely geometry (cm), cut to the boundary and
+        simplified to at most MAX_BELIEVED_VERTICES vertices; None when they do not fit."""
         from skimage.measure import find_contours
         mask = np.pad(self.obstacle_mask(), 1, constant_values=False)
         polys = []
@@ -251,7 +265,7 @@ class OccupancyGrid:
         for g in polys:
             geom = geom.difference(g) if geom.contains(g) else geom.union(g)
         told = unary_union([Polygon(o) for o in self.known.obstacles])
-        return geom.union(told).simplify(0.3 * self.cell).intersection(Polygon(self.known.boundary))
+        return _within_budget(geom.union(told).intersection(Polygon(self.known.boundary)), self.cell)
 
     def believed_arena(self) -> Arena:
         """The outer boundary with the believed obstacles, unknown space free.
@@ -262,7 +276,7 @@ class OccupancyGrid:
         point) keeps the previous arena.
         """
         geom = self.believed_geometry()
-        if geom.symmetric_difference(self._geometry).area <= MIN_CHANGE_CM2:
+        if geom is None or geom.symmetric_difference(self._geometry).area <= MIN_CHANGE_CM2:
             return self._arena
         for closing in (0.0, 0.5 * self.cell, self.cell):
             arena = self._arena_of(geom, closing)
@@ -280,7 +294,9 @@ class OccupancyGrid:
         if closing > 0:
             geom = geom.buffer(closing, join_style="mitre").buffer(-closing, join_style="mitre")
         free = outer.difference(geom).buffer(0)
-        if free.is_empty:
+        sliver = 0.5 * SLIVER_CELLS * self.cell
+        free = free.buffer(-sliver, join_style="mitre").buffer(sliver, join_style="mitre").intersection(outer)
+        if free.is_empty or free.area <= 0:
             return None
         free = max(getattr(free, "geoms", [free]), key=lambda g: g.area)
         blocked = outer.difference(Polygon(free.exterior))
@@ -289,5 +305,29 @@ class OccupancyGrid:
         try:
             return Arena.from_polygons(self.known.boundary, [np.asarray(g.exterior.coords)[:-1] for g in parts],
                                        name=self.known.name, strength=self.known.strength).without_scenario()
-        except ArenaError:
+        except (ArenaError, GEOSException):
             return None
+
+
+def _vertices(geom) -> int:
+    return int(shapely.get_num_coordinates(geom))
+
+
+def _within_budget(geom, cell: float):
+    """`geom` simplified to at most MAX_BELIEVED_VERTICES vertices (tolerance 0.3 cell,
+    doubled up to MAX_SIMPLIFY_CELLS cells; then its smallest parts left out, as unseen
+    space is free), or None when its largest part alone does not fit."""
+    tol = 0.3 * cell
+    out = geom.simplify(tol)
+    while _vertices(out) > MAX_BELIEVED_VERTICES and tol < MAX_SIMPLIFY_CELLS * cell:
+        tol *= 2.0
+        out = geom.simplify(tol)
+    if _vertices(out) <= MAX_BELIEVED_VERTICES:
+        return out
+    kept, n = [], 0
+    for part in sorted(getattr(out, "geoms", [out]), key=lambda g: -g.area):
+        if n + _vertices(part) > MAX_BELIEVED_VERTICES:
+            break
+        kept.append(part)
+        n += _vertices(part)
+    return unary_union(kept) if kept else None

@@ -94,7 +94,8 @@ class StrategyAgent:
                       params=s.params(), position_support=support() if callable(support) else None,
                       messages=self.messages, agents=s.agents,
                       estimates=_array(getattr(s, "estimates", None)),
-                      estimates_sd=_array(getattr(s, "estimates_sd", None)))
+                      estimates_sd=_array(getattr(s, "estimates_sd", None)),
+                      notes=dict(getattr(s, "notes", None) or {}))
 
 
 def _array(value) -> np.ndarray | None:

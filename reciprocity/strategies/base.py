@@ -104,6 +104,9 @@ class Strategy(ABC):
         self.n_measurements = 0
         self.n_samples = 0
         self.n_rejected = 0
+        #: What the strategy records about its own run for the episode summary
+        #: (e.g. ``remesh_failures``): keys beside the contract's.
+        self.notes: dict = {}
 
     # -- the protocol -------------------------------------------------------------------
     @abstractmethod

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import SearchError
+from arenas import ArenaError
+
+from ..errors import MeshError, SearchError
 from ..fem.green import GreenSolver
 from ..imaging import COMBINATIONS, ImagingMap
 from ..intents import Measure
@@ -400,6 +402,8 @@ class ReciprocityStrategy(Strategy):
         self._reset_state()
         arena, pose = ctx.arena, ctx.start
         self.mapping = MapKeeper.from_nominal(ctx.nominal)            # map: unknown (issue 23)
+        if self.mapping is not None:
+            self.notes.update(remesh_failures=0)
         geometry = arena.without_scenario() if self.mapping is None else self.mapping.arena
         if self.solver is None or self.solver.arena.without_scenario() is not geometry:
             self.solver = cached_solver(geometry, self.h)
@@ -482,21 +486,34 @@ class ReciprocityStrategy(Strategy):
         arena (cached: a map seen before is not factorized again), the same readings
         imaged on it with the model error of the map now, and the space and reachable set
         on its mesh. Rejected targets are forgotten (the point observer, moving in
-        seen-free space, has none). Reachable: every node at `clearance` from the
+        seen-free space, has none). A re-mesh that fails (a geometry Triangle cannot mesh,
+        out of memory) keeps the last good mesh, solver and space, and is counted in
+        ``notes["remesh_failures"]`` (the episode summary's ``remesh_failures``, with the last
+        ``remesh_note``). Reachable: every node at `clearance` from the
         believed walls, whatever the gaps between them (believed walls are thicker than
         the true ones, so a gap the map closes at `clearance` may be open, and the
         believed free region is connected by construction)."""
         geometry = self.mapping.arena
-        self.solver = cached_solver(geometry, self.h)
+        try:
+            # not the process-wide cache: a believed map is not met again, and eight stale
+            # solvers of up to ~100 k nodes each held RSS near 2 GB
+            space = MeshSpace(geometry, self.h)
+            solver = GreenSolver(geometry, h=self.h, order=1, mesh=space).factorize()
+        except (MeshError, ArenaError, MemoryError) as exc:
+            self.notes["remesh_failures"] += 1
+            self.notes["remesh_note"] = (f"re-mesh of believed map {self.mapping.revision} failed "
+                                         f"({str(exc)[:200]}); kept the last good mesh")
+            return
+        self.solver = solver
         base = self.imaging if self.book is None else self.book.raw
         error = self.mapping.model_error(self._model_error) if base.combine == "product" \
             and base.strength_range is None else base.model_error
         if self.book is None:
             self.imaging = self.mapping.imaging(self.imaging.on(self.solver, model_error=error))
-            self.space = self._space(geometry)
+            self.space = space
         else:       # several sources: every reading on the new mesh, the found sources kept
             raw = self.mapping.imaging(base.on(self.solver, model_error=error))
-            self.space = self._space(geometry)
+            self.space = space
             self.imaging = self.book.rebase(raw, self.space.wall_distance)
         self._node_area = self.space.cell_areas
         self._reachable = self.space.admissible(self.clearance)

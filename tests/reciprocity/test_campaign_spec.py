@@ -227,3 +227,17 @@ def test_every_campaign_spec_of_the_benchmarks_is_valid(path):
     """The specs the benchmark docs tell users to run still parse and check."""
     spec = load_spec(path)
     assert spec.n_episodes >= 1
+
+
+def test_generated_arenas_as_scenarios_and_world_overrides():
+    from reciprocity.campaign.spec import entry_scenario, world_overrides
+    spec = parse_spec({**BASE, "scenarios": [
+        "generate:rooms:3",
+        {"name": "generate:maze:2:cols=3", "label": "small-maze"},
+        {"name": "paper", "label": "paper-as-spiral", "world": {"arena": {"generate": "spiral", "seed": 4}}}]})
+    assert [s.label for s in spec.scenarios] == ["rooms-3", "small-maze", "paper-as-spiral"]
+    rooms = entry_scenario(spec.scenarios[0])
+    assert rooms.arena.name == "rooms-3" and rooms.params["source"] == rooms.arena.source.tolist()
+    spiral = entry_scenario(spec.scenarios[2]).with_world(world_overrides(spec.scenarios[2].world))
+    # the spiral's own source, not paper's (which may lie in the spiral's wall)
+    assert spiral.arena.name == "spiral-4" and spiral.params["source"] == spiral.arena.source.tolist()

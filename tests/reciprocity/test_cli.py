@@ -4,6 +4,8 @@ import json
 
 import pytest
 
+import arenas
+
 from reciprocity.cli import main
 
 
@@ -253,3 +255,17 @@ def test_a_reader_that_leaves_early_gets_no_traceback(command):
     finally:
         os.close(w)
     assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+
+
+def test_a_generated_arena_runs_from_the_command_line_and_a_scenario_file(tmp_path, capsys):
+    out = tmp_path / "s.json"
+    assert main(["run", "--arena", "generate:maze:4:cols=3", "--strategy", "reciprocity", "--h", "5",
+                 "--set", "max_steps=2", "--quiet", "--json", str(out)]) == 0
+    summary = json.loads(out.read_text())
+    assert summary["arena"] == "maze-4-cols3"
+    assert summary["source"] == arenas.generate("maze", 4, cols=3).source.tolist()
+    scenario = tmp_path / "gen.yaml"
+    scenario.write_text("world: poisson\narena: {generate: maze, seed: 4, cols: 3}\nmax_steps: 2\n")
+    assert main(["run", "--scenario", str(scenario), "--strategy", "reciprocity", "--h", "5", "--quiet",
+                 "--json", str(out)]) == 0
+    assert json.loads(out.read_text())["source"] == summary["source"]

@@ -1,0 +1,123 @@
+"""The core search on arenas it has never seen (issue 33): generated arenas, map known
+and map unknown.
+
+Draw ``i`` of family ``F`` is the arena ``arenas.generate(F, i)`` with its own source and
+start (each draw a new arena, source and start), run with the point observer and the
+``reciprocity`` strategy at its defaults, the map known and the map unknown (the default
+64-beam, 40 cm lidar), episode seed ``i``. The families take turns, so a run cut short
+covers all of them. Rows are appended to a CSV as episodes finish; a second run resumes.
+
+    nice -n 10 python benchmarks/unseen_arenas.py --draws 50 --out benchmarks/unseen_arenas/runs.csv
+    python benchmarks/unseen_arenas.py --table benchmarks/unseen_arenas/runs.csv > benchmarks/unseen_arenas.md
+
+``--minutes M`` stops starting new draws after M minutes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+MODES = {"known": {}, "unknown": {"map": "unknown"}}
+FIELDS = ["family", "draw", "mode", "arena", "success", "converged", "stop", "error", "n_measurements",
+          "path_length", "wall_time_s", "remesh_failures", "peak_rss_mb"]
+
+
+def run(families: list[str], draws: int, out: Path, minutes: float | None) -> None:
+    import arenas
+    from reciprocity.env import SearchEnv, rollout
+    from reciprocity.scenarios import load_scenario
+    from reciprocity.strategies import STRATEGIES
+    from reciprocity.strategies.agent import StrategyAgent
+    done = set()
+    if out.exists():
+        with out.open() as f:
+            done = {(r["family"], int(r["draw"]), r["mode"]) for r in csv.DictReader(f)}
+    out.parent.mkdir(parents=True, exist_ok=True)
+    new = not out.exists()
+    t_end = None if minutes is None else time.monotonic() + 60 * minutes
+    with out.open("a", newline="") as f:
+        w = csv.DictWriter(f, FIELDS)
+        if new:
+            w.writeheader()
+        for i in range(draws):
+            for fam in families:
+                if t_end is not None and time.monotonic() > t_end:
+                    return
+                scenario = load_scenario(arenas.generate(fam, i))
+                for mode, world in MODES.items():
+                    if (fam, i, mode) in done:
+                        continue
+                    env = SearchEnv(scenario, world=dict(world))
+                    t0 = time.perf_counter()
+                    s = rollout(env, StrategyAgent(STRATEGIES["reciprocity"], {}), i).summary
+                    w.writerow(dict(family=fam, draw=i, mode=mode, arena=s["arena"], success=s["success"],
+                                    converged=s["converged"], stop=s["stop"],
+                                    error=None if s["error"] is None else round(s["error"], 3),
+                                    n_measurements=s["n_measurements"], path_length=round(s["path_length"], 1),
+                                    wall_time_s=round(time.perf_counter() - t0, 2),
+                                    remesh_failures=s.get("remesh_failures", ""),
+                                    peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024))
+                    f.flush()
+
+
+def _q(values, q: float) -> str:
+    v = np.asarray([x for x in values if x is not None and x == x], dtype=float)
+    return "–" if v.size == 0 else f"{np.quantile(v, q):.3g}"
+
+
+def table(path: Path) -> str:
+    with path.open() as f:
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        r["success"] = r["success"] == "True"
+        r["error"] = float(r["error"]) if r["error"] not in ("", "None") else None
+        for k in ("n_measurements", "path_length", "wall_time_s"):
+            r[k] = float(r[k])
+    lines = [f"{len(rows)} episodes: {len({(r['family'], r['draw']) for r in rows})} (arena, source, start) "
+             "draws, point observer, `reciprocity` at its defaults; peak RSS of the one process "
+             f"{max(int(r['peak_rss_mb']) for r in rows)} MB.", "",
+             "| family | map | episodes | success | error median / p95 (cm) | readings median / p90 "
+             "| path median (cm) | s / episode | re-mesh failures |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    fams = list(dict.fromkeys(r["family"] for r in rows)) + ["all"]
+    for fam in fams:
+        for mode in MODES:
+            sel = [r for r in rows if (fam == "all" or r["family"] == fam) and r["mode"] == mode]
+            if not sel:
+                continue
+            fails = sum(int(r["remesh_failures"] or 0) for r in sel) if mode == "unknown" else "–"
+            lines.append(
+                f"| {fam} | {mode} | {len(sel)} | {100 * np.mean([r['success'] for r in sel]):.0f} % "
+                f"| {_q([r['error'] for r in sel], 0.5)} / {_q([r['error'] for r in sel], 0.95)} "
+                f"| {_q([r['n_measurements'] for r in sel], 0.5)} / {_q([r['n_measurements'] for r in sel], 0.9)} "
+                f"| {_q([r['path_length'] for r in sel], 0.5)} | {np.mean([r['wall_time_s'] for r in sel]):.1f} "
+                f"| {fails} |")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    import arenas
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--families", nargs="*", default=list(arenas.FAMILIES))
+    p.add_argument("--draws", type=int, default=10, help="draws per family")
+    p.add_argument("--minutes", type=float, help="start no new draw after this many minutes")
+    p.add_argument("--out", type=Path, default=Path("unseen_arenas_runs.csv"))
+    p.add_argument("--table", type=Path, help="print the table of a runs CSV instead")
+    args = p.parse_args(argv)
+    if args.table:
+        print(table(args.table))
+        return 0
+    run(args.families, args.draws, args.out, args.minutes)
+    print(table(args.out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
