@@ -47,6 +47,11 @@ BUDGET = {
     "farrell-hmm --runs 50": "farrell-hmm --runs 1",
     "reciprocity run --arena paper --strategy reciprocity --seed 3 --out out --json run.json":
         "reciprocity run --arena paper --strategy reciprocity --seed 3 --out out --json run.json --no-video",
+    "--arena generate:rooms:3 --strategy reciprocity --quiet":
+        "--arena generate:rooms:3 --strategy reciprocity --h 3 --set max_steps=3 --quiet",
+    "--arena generate:maze:7:cols=5,rows=5 --strategy reciprocity --quiet":
+        "--arena generate:maze:7:cols=5,rows=5 --strategy reciprocity --h 3 --set max_steps=3 --quiet",
+    "--scenario rooms.yaml --strategy reciprocity --quiet": "--scenario rooms.yaml --strategy reciprocity --h 3 --quiet",
 }
 #: A command still running after this many seconds is stopped: a safety net against a
 #: hang, far above what any command takes on a loaded machine (not a speed check).
