@@ -9,6 +9,7 @@ the whole spec before any episode runs.
 from __future__ import annotations
 
 import argparse
+import re
 from pathlib import Path
 
 from arenas.files import check_output, real_folder
@@ -28,6 +29,12 @@ def _whole(text: str, lo: int, hi: int) -> int:
     if value is None or not lo <= value <= hi:
         raise argparse.ArgumentTypeError(f"must be a whole number from {lo} to {hi}; got {text!r}")
     return value
+
+
+def _rows(text: str) -> str:
+    if not all(t.strip() for t in text.split(",")):
+        raise argparse.ArgumentTypeError(f"must be row names separated by commas; got {text!r}")
+    return text
 
 
 def _workers(text: str) -> int:
@@ -128,12 +135,14 @@ def cmd_reproduce(args) -> int:
         return 0
     if args.table is None:
         raise SearchError("name a table (reciprocity reproduce --list shows them)")
-    _table(args.table).protocol(args.protocol)          # both checked before any output
+    _table(args.table).protocol(args.protocol).rows(args.rows)     # all checked before any output
     suffix = "" if args.protocol in (None, "default") else f"-{args.protocol}"
+    if args.rows:      # a part of the table is a campaign of its own, in a folder of its own
+        suffix += "-rows-" + re.sub(r"[^A-Za-z0-9_.-]+", "_", args.rows).strip("_")[:60]
     out = check_output(args.out or f"reproduce_{args.table}{suffix}", "--out", folder=True, error=SearchError)
     table, result, rows, files = reproduce(args.table, out, runs=args.runs, workers=args.workers,
                                            scheduler=args.scheduler, tls=_tls(args),
-                                           progress=_progress(args), protocol=args.protocol)
+                                           progress=_progress(args), protocol=args.protocol, rows=args.rows)
     print(_ran(result))
     text = comparison_markdown(table, rows)
     (Path(out) / "comparison.md").write_text(text)
@@ -172,6 +181,10 @@ def add_commands(subparsers) -> None:
                    help=f"runs per strategy, 1 to {MAX_SEEDS} (default: the table's)")
     p.add_argument("--out", metavar="DIR", help="results folder (default reproduce_TABLE, or "
                    "reproduce_TABLE-PROTOCOL)")
+    p.add_argument("--rows", type=_rows, metavar="ROW[,ROW...]",
+                   help="run only these rows of the table, each named by its row label, strategy "
+                   "variant or scenario (song-100: the 100² rows of song2019-table1); the same "
+                   "episodes as the whole table's")
     p.add_argument("--protocol", metavar="NAME", help="run the table under another protocol the table "
                    "offers (e.g. 'paper': the paper's own set-up; --list names them)")
     _where(p)

@@ -124,6 +124,44 @@ class PaperTable:
         """The validated campaign with `runs` seeds (default :attr:`default_runs`)."""
         return parse_spec({"name": self.name, **self.build_spec(runs or self.default_runs)})
 
+    def rows(self, wanted) -> "PaperTable":
+        """This table cut to the rows `wanted` (None: itself): a list, or a text of items
+        separated by commas (a row label with a comma in it, as ``(0, 7)``, may stand alone),
+        each naming a row by its label, its strategy variant or its scenario; every row an
+        item names is kept. Its
+        campaign runs only the (scenario, variant) pairs of those rows, with the same
+        episodes (ids and seeds) as the whole table's.
+
+        Raises
+        ------
+        SearchError
+            An item that names no row.
+        """
+        if not wanted:
+            return self
+        if isinstance(wanted, str):
+            names = {v.label for v in self.paper} | {v.variant for v in self.paper} | {v.scenario for v in self.paper}
+            wanted = [wanted] if wanted in names else [w.strip() for w in wanted.split(",")]
+        keep = []
+        for item in wanted:
+            hits = [v for v in self.paper if item in (v.label, v.variant, v.scenario)]
+            if not hits:
+                names = sorted({v.label for v in self.paper} | {v.variant for v in self.paper}
+                               | {v.scenario for v in self.paper if v.scenario})
+                raise SearchError(f"--rows {item!r} names no row of table {self.name!r}; rows, variants and "
+                                  f"scenarios are: {', '.join(names)}")
+            keep += [v for v in hits if v not in keep]
+        build = self.build_spec
+
+        def build_rows(runs: int) -> dict:
+            spec = build(runs)
+            labels = [entry.label for entry in parse_spec({"name": self.name, **spec}).scenarios]
+            pairs = sorted({(v.scenario or label, v.variant) for v in keep
+                            for label in ([v.scenario] if v.scenario else labels)})
+            return {**spec, "pairs": [list(p) for p in pairs]}
+
+        return replace(self, build_spec=build_rows, paper=tuple(keep))
+
 
 #: Registered tables by name.
 TABLES: dict[str, PaperTable] = {}

@@ -141,7 +141,7 @@ def comparison_markdown(table: PaperTable, rows: list[dict]) -> str:
 
 def reproduce(name: str, directory, *, runs: int | None = None, workers: int | None = None,
               scheduler: str | None = None, tls: TLSFiles | None = None,
-              progress: bool | None = None, protocol: str | None = None
+              progress: bool | None = None, protocol: str | None = None, rows=None
               ) -> tuple[PaperTable, CampaignResult, list[dict], list[Path]]:
     """Run (or resume) the campaign of table `name` and compare it with the paper.
 
@@ -158,6 +158,10 @@ def reproduce(name: str, directory, *, runs: int | None = None, workers: int | N
         As in :func:`reciprocity.campaign.run_campaign`.
     protocol : str, optional
         One of the table's :attr:`PaperTable.protocols` (default: its own set-up).
+    rows : list of str, optional
+        Run only these rows (:meth:`PaperTable.rows`: row labels, variants or scenarios);
+        default: the whole table. A table's figures (:attr:`PaperTable.after`) are made
+        for the whole table only.
 
     Returns
     -------
@@ -165,7 +169,8 @@ def reproduce(name: str, directory, *, runs: int | None = None, workers: int | N
         The table, what the run did, :func:`compare`'s rows, and the files the table's
         :attr:`PaperTable.after` wrote (empty without one).
     """
-    table = _table(name).protocol(protocol)
+    whole = _table(name).protocol(protocol)
+    table = whole.rows(rows)
     if runs is not None and (isinstance(runs, bool) or not isinstance(runs, int)
                              or not 1 <= runs <= MAX_SEEDS):
         raise SearchError(f"--runs must be a whole number from 1 to {MAX_SEEDS}; got {runs!r}")
@@ -173,7 +178,7 @@ def reproduce(name: str, directory, *, runs: int | None = None, workers: int | N
     result = run_campaign(spec, directory, workers=workers, scheduler=scheduler, tls=tls,
                           progress=progress)
     rows = compare(table, directory)
-    files = list(table.after(Path(directory), spec)) if table.after is not None else []
+    files = list(table.after(Path(directory), spec)) if table.after is not None and table is whole else []
     return table, result, rows, files
 
 

@@ -10,7 +10,8 @@ cap, duplicate keys refused)::
     agents: 3                      # optional: number of observers
     random_source: true            # optional: draw source and start per seed (see below)
     pairs: supported               # optional: run only the (scenario, strategy) pairs that
-                                   # apply (default: every pair, and an unsupported one is an error)
+                                   # apply (default: every pair, and an unsupported one is an error),
+                                   # or a list [[scenario label, variant label], ...]: only those
     strategies: [reciprocity, gradient]
     #   or a mapping name -> {parameter: value or [grid values]}:
     #   strategies:
@@ -372,9 +373,16 @@ def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
     _bounded_size(seeds, len(variants), data["scenarios"])
     scenarios = _scenarios(data["scenarios"], random_source, base)
     pairs = data.get("pairs", "all")
-    if pairs not in ("all", "supported"):
-        raise SearchError(f"pairs must be 'all' or 'supported'; got {pairs!r}")
+    only = _only_pairs(pairs, scenarios, variants) if isinstance(pairs, list) else None
+    if only is None and pairs not in ("all", "supported"):
+        raise SearchError("pairs must be 'all', 'supported' or a list of [scenario label, variant label] "
+                          f"pairs; got {pairs!r}")
+    if only is not None:
+        scenarios = [s for s in scenarios if any(s.label == p[0] for p in only)]
+        variants = [v for v in variants if any(v.label == p[1] for p in only)]
     skip = _check_pairs(scenarios, variants, platform, agents, supported_only=pairs == "supported")
+    if only is not None:
+        skip |= {(s.label, v.label) for s in scenarios for v in variants} - only
     source = dict(name=name, seed=seed, seeds=seeds, platform=platform, agents=agents,
                   strategies={v.label: {"strategy": v.strategy, "params": v.params}
                               for v in variants},
@@ -383,10 +391,32 @@ def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
                                   # only when set: the hashes of earlier campaigns stay valid
                                   **({"random_start": True} if s.random_start else {}))
                              for s in scenarios],
-                  **({"pairs": "supported"} if pairs == "supported" else {}))
+                  **({"pairs": "supported"} if pairs == "supported" else {}),
+                  **({"pairs": sorted(map(list, only))} if only is not None else {}))
     _jsonable(source)
     return CampaignSpec(name, seed, seeds, platform, agents, tuple(variants), tuple(scenarios),
                         source, frozenset(skip), scheduler, tls)
+
+
+def _only_pairs(pairs: list, scenarios, variants) -> set[tuple[str, str]]:
+    """The pairs of a ``pairs: [[scenario label, variant label], ...]`` list, checked
+    against the spec's labels."""
+    labels = {s.label for s in scenarios}
+    names = {v.label for v in variants}
+    out = set()
+    for p in pairs:
+        if not (isinstance(p, list) and len(p) == 2 and all(isinstance(x, str) for x in p)):
+            raise SearchError(f"each entry of pairs must be [scenario label, variant label]; got {p!r}")
+        if p[0] not in labels:
+            raise SearchError(f"pairs names scenario {p[0]!r}; the spec's scenarios are "
+                              f"{', '.join(sorted(labels))}")
+        if p[1] not in names:
+            raise SearchError(f"pairs names strategy variant {p[1]!r}; the spec's variants are "
+                              f"{', '.join(sorted(names))}")
+        out.add((p[0], p[1]))
+    if not out:
+        raise SearchError("pairs is an empty list; name at least one [scenario label, variant label] pair")
+    return out
 
 
 def _int(value, what: str, lo: int, hi: int) -> int:

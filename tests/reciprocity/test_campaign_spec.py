@@ -241,3 +241,19 @@ def test_generated_arenas_as_scenarios_and_world_overrides():
     spiral = entry_scenario(spec.scenarios[2]).with_world(world_overrides(spec.scenarios[2].world))
     # the spiral's own source, not paper's (which may lie in the spiral's wall)
     assert spiral.arena.name == "spiral-4" and spiral.params["source"] == spiral.arena.source.tolist()
+
+
+def test_a_list_of_pairs_runs_only_those_pairs():
+    full = parse_spec({"strategies": ["reciprocity", "gradient"], "scenarios": ["empty", "paper"], "seeds": 2})
+    part = parse_spec({"strategies": ["reciprocity", "gradient"], "scenarios": ["empty", "paper"], "seeds": 2,
+                       "pairs": [["paper", "gradient"], ["empty", "gradient"]]})
+    ids = [t.episode_id for t in part.tasks()]
+    assert ids == ["empty/gradient/0", "empty/gradient/1", "paper/gradient/0", "paper/gradient/1"]
+    assert part.n_episodes == 4 and part.digest != full.digest
+    assert part.source["pairs"] == [["empty", "gradient"], ["paper", "gradient"]]
+    seeds = {t.episode_id: t.seed for t in full.tasks()}
+    assert all(seeds[t.episode_id] == t.seed for t in part.tasks())      # the same episodes
+    for bad, match in (([["maze", "gradient"]], "names scenario 'maze'"), ([["empty", "rbpf"]], "variant 'rbpf'"),
+                       ([], "empty list"), ([["empty"]], r"\[scenario label, variant label\]")):
+        with pytest.raises(SearchError, match=match):
+            parse_spec({"strategies": ["gradient"], "scenarios": ["empty"], "seeds": 1, "pairs": bad})

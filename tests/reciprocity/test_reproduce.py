@@ -175,3 +175,29 @@ def test_every_protocol_spec_validates_and_prints_every_paper_value(name, protoc
     assert all(s.ref in scenario_names() for s in spec.scenarios)
     for pv in table.paper:
         assert pv.variant in variants and (pv.scenario is None or pv.scenario in scenarios), (name, pv)
+
+
+def test_rows_run_the_same_episodes_as_the_whole_table():
+    """``reproduce TABLE --rows``: part of a table, with the whole table's episode ids and seeds."""
+    from reciprocity.campaign.reproduce import TABLES
+    table = TABLES["song2019-table1"]
+    whole = {(t.episode_id, t.seed) for t in table.spec(3).tasks()}
+    part = table.rows("song-100")
+    assert {v.scenario for v in part.paper} == {"song-100"} and len(part.paper) < len(table.paper)
+    tasks = {(t.episode_id, t.seed) for t in part.spec(3).tasks()}
+    assert len(tasks) == 4 * 3 and tasks <= whole                     # four strategies, three seeds
+    both = table.rows("song-100,free-energy")                         # union of what each names
+    assert {(v.variant, v.scenario) for v in both.paper} >= {("free-energy", "song-350"), ("infotaxis", "song-100")}
+    assert TABLES["ristic2014-table1"].rows("(0, 7)").paper[0].label == "(0, 7)"   # a label with a comma
+    with pytest.raises(SearchError, match="names no row"):
+        table.rows("song-999")
+
+
+def test_reproduce_rows_on_the_command_line(tmp_path, monkeypatch, capsys):
+    from reciprocity.cli import main
+    monkeypatch.chdir(tmp_path)
+    assert main(["reproduce", "ristic2014-table1", "--runs", "1", "--rows", "source_0_7", "--workers", "1",
+                 "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "1 episodes run" in out and "| (0, 7) |" in out and "(0, 1)" not in out
+    assert (tmp_path / "reproduce_ristic2014-table1-rows-source_0_7" / "comparison.md").is_file()
