@@ -104,9 +104,13 @@ def test_the_bank_command_counts_only_good_files(built, capsys):
     assert out.err.startswith("warning: cache entry") and out.err.count("\n") == 1
 
 
+#: A safety net against a hung command, never the assertion (minutes, far above any run here).
+HANG_S = 600
+
+
 def _cli(*args, env=None, preexec=None, **kw):
     return subprocess.run([sys.executable, "-m", "hjplanner", *args], capture_output=True, text=True,
-                          env={**os.environ, **(env or {})}, preexec_fn=preexec, timeout=600, **kw)
+                          env={**os.environ, **(env or {})}, preexec_fn=preexec, timeout=HANG_S, **kw)
 
 
 BANK_ARGS = ["bank", "--bounds", "0,1,0,1", "--spacing", "0.25", "--rho", "0.2", "--h", "0.02",
@@ -144,7 +148,7 @@ def test_a_cache_folder_that_cannot_be_written_is_refused_before_any_work(tmp_pa
 
 def test_the_car_refuses_a_cache_it_cannot_write(tmp_path):
     r = subprocess.run([sys.executable, "-m", "reciprocity.cli", "run", "--arena", "paper", "--strategy",
-                        "reciprocity", "--platform", "car", "--car", "planner=bank", "--quiet"], capture_output=True, text=True, timeout=600,
+                        "reciprocity", "--platform", "car", "--car", "planner=bank", "--quiet"], capture_output=True, text=True, timeout=HANG_S,
                        env={**os.environ, "HJPLANNER_CACHE": "/proc/hjplanner-cache"})
     assert r.returncode == 2 and r.stderr.startswith("error: HJPLANNER_CACHE '/proc/hjplanner-cache'"), r.stderr
     assert r.stderr.count("\n") == 1

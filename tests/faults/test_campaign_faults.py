@@ -36,9 +36,16 @@ def _row(i):
             "seed": 11, "source": np.array([1.0, 2.0]), "error": 0.5, "n_samples": 4, "success": True}
 
 
+#: A safety net against a hung command, never the assertion (minutes, far above any run here).
+HANG_S = 600
+#: What the campaign is told (the behaviour under test, not a deadline): write finished rows
+#: after this long, end after this long with no worker; and how long to try a dead address.
+FLUSH_S, NO_WORKER_S, CONNECT_S = 0.5, 3.0, 0.5
+
+
 def _cli(*args, **kw):
     return subprocess.run([sys.executable, "-m", "reciprocity.cli", *args], capture_output=True, text=True,
-                          timeout=600, **kw)
+                          timeout=HANG_S, **kw)
 
 
 @pytest.fixture
@@ -68,7 +75,7 @@ def test_a_scheduler_named_in_a_spec_is_used_only_when_confirmed(tmp_path):
 
 def test_plain_tcp_always_warns():
     with pytest.warns(UnencryptedSchedulerWarning), pytest.raises(SearchError):
-        with dask_client(scheduler="tcp://127.0.0.1:9", timeout=0.5):
+        with dask_client(scheduler="tcp://127.0.0.1:9", timeout=CONNECT_S):
             pass
 
 
@@ -178,7 +185,7 @@ def test_losing_every_worker_ends_the_campaign_and_keeps_what_finished(tmp_path)
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", UnencryptedSchedulerWarning)
                     run_campaign(load_spec(spec), out, scheduler=cluster.scheduler_address, progress=False,
-                                 flush_rows=10**6, flush_seconds=0.5, worker_timeout=3.0)
+                                 flush_rows=10**6, flush_seconds=FLUSH_S, worker_timeout=NO_WORKER_S)
             except SearchError as exc:
                 outcome["error"] = str(exc)
         thread = threading.Thread(target=drive)
