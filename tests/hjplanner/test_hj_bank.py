@@ -10,6 +10,9 @@ import arenas
 from hjplanner import (OnDemandPlanner, PlanningError, ValueFunctionBank, cache_info, clear_cache, default_cache_dir,
                        lattice_targets, solve)
 
+#: A safety net against a hung subprocess, never the assertion (the work is bounded; minutes).
+HANG_S = 300
+
 SMALL = dict(rho=0.2, h=0.1, ntheta=16)
 
 
@@ -139,6 +142,7 @@ def test_readme_bank_command_is_the_car_platforms_bank(tmp_path, paper):
 UNGUARDED = """
 import arenas
 from hjplanner import ValueFunctionBank
+
 bank = ValueFunctionBank(arenas.load("paper"), 40.0, rho=15, h=3.0, ntheta=16, clearance=4, cache_dir={cache!r})
 bank.build(workers=2, progress=False)
 print("built", len(bank.missing()))
@@ -151,7 +155,7 @@ def test_bank_from_an_unguarded_script_is_built_here_not_hung(tmp_path):
     used to block on the dead worker's start-up pipe)."""
     script = tmp_path / "unguarded.py"
     script.write_text(UNGUARDED.format(cache=str(tmp_path / "cache")))
-    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300,
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=HANG_S,
                           cwd=tmp_path)
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout.splitlines()[-1] == "built 0"
