@@ -6,9 +6,9 @@ never receives one of these, so a strategy is never scored against its own numbe
 
 from __future__ import annotations
 
-from functools import lru_cache
 
 from arenas import Arena
+from arenas.memo import sized_cache
 
 from ..fem import GreenSolver
 from ..spaces import mesh_space
@@ -16,7 +16,12 @@ from ..spaces import mesh_space
 __all__ = ["cached_solver"]
 
 
-@lru_cache(maxsize=8)
+#: Bytes of strategy solvers (mesh, basis, factorization) kept per process: a worker running many
+#: arenas keeps the most recent within it (issue 33).
+SOLVER_CACHE_BYTES = 400 * 2**20
+
+
+@sized_cache(SOLVER_CACHE_BYTES, maxsize=8)
 def cached_solver(arena: Arena, h: float, order: int = 1) -> GreenSolver:
     """A :class:`~reciprocity.fem.GreenSolver` shared across a strategy's episodes on the same
     arena geometry (pass ``arena.without_scenario()``): meshed and factorized once per process.

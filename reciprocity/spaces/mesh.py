@@ -8,13 +8,13 @@ mesh=space)``), so one triangulation serves both.
 
 from __future__ import annotations
 
-from functools import lru_cache
 from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.sparse import coo_matrix
 
 from arenas import Arena
+from arenas.memo import sized_cache
 
 from ..fem.locate import TriangleLocator
 from ..fem.mesh import cached_mesh, node_areas
@@ -197,7 +197,11 @@ class MeshSpace(SearchSpace):
         return self.points[ring[np.argmax(score[ring])]].copy()
 
 
-@lru_cache(maxsize=16)
+#: Bytes of search spaces kept per process.
+SPACE_CACHE_BYTES = 200 * 2**20
+
+
+@sized_cache(SPACE_CACHE_BYTES, maxsize=16)
 def mesh_space(arena: Arena, h: float) -> MeshSpace:
     """A :class:`MeshSpace` shared by every episode on the same arena geometry and `h`
     (pass ``arena.without_scenario()``, which is cached per arena)."""

@@ -12,9 +12,10 @@ entropy of the belief expected after reading there.
 
 from __future__ import annotations
 
-from functools import lru_cache
 
 import numpy as np
+
+from arenas.memo import sized_cache
 
 from ..beliefs.base import expected_entropy as _expected_entropy
 from ..fem.green import GreenSolver
@@ -97,7 +98,11 @@ class LatticeGreens:
         return self._columns[:, anchors].astype(float)
 
 
-@lru_cache(maxsize=4)
+#: Bytes of lattice Green's functions kept per process.
+LATTICE_CACHE_BYTES = 200 * 2**20
+
+
+@sized_cache(LATTICE_CACHE_BYTES, maxsize=4)
 def lattice_greens(solver: GreenSolver, spacing: float) -> LatticeGreens:
     """The :class:`LatticeGreens` of `solver`, shared by every search on it in a process
     (its columns depend only on the geometry)."""
@@ -160,3 +165,53 @@ def expected_entropy(means: np.ndarray, weights: np.ndarray, noise: float) -> np
     diff = means.T[:, :, None] - means[None, :, :]                    # (j, m, i): outcome j
     log_joint = np.log(np.maximum(weights, 1e-300))[None, None, :] - (diff * diff) / (4.0 * noise * noise)
     return _expected_entropy(log_joint, weights[:, None], log=True)
+
+
+def mutual_information(means: np.ndarray, weights: np.ndarray, noise: float,
+                       bins_per_sd: float = 4.0) -> np.ndarray:
+    """Mutual information (nats) between the source and one reading, at each candidate.
+
+    The reading at candidate ``y`` is the mixture ``Σ_j w_j N(means[y, j], noise^2)``;
+    ``I = h(reading) - ½ log(2 π e noise^2)``. The mixture's density is deposited on a grid
+    of ``noise / bins_per_sd`` (linear weights onto the two nearest bins), convolved with
+    the noise's Gaussian and integrated by the midpoint rule: O(m K) work, against the
+    O(m K²) of :func:`expected_entropy`, so the belief can keep hundreds of support points.
+    The discretisation adds an error of order ``(1 / bins_per_sd)^2 / 12`` nats.
+
+    Parameters
+    ----------
+    means : ndarray, shape (m, K)
+        Predicted reading at m candidates for each of K support points (signal units).
+    weights : ndarray, shape (K,)
+        Belief weights of the support points (sum 1).
+    noise : float
+        Standard deviation of a reading, signal units.
+    bins_per_sd : float
+        Grid cells per noise standard deviation.
+
+    Returns
+    -------
+    ndarray, shape (m,)
+        Mutual information, nats (0 where every support point predicts the same reading).
+    """
+    from scipy.ndimage import gaussian_filter1d
+    means = np.asarray(means, dtype=float)
+    w = np.asarray(weights, dtype=float)
+    w = w / w.sum()
+    m = means.shape[0]
+    dy = noise / bins_per_sd
+    pad = 5.0 * noise
+    lo = means.min(axis=1, keepdims=True) - pad                       # per candidate
+    span = means.max(axis=1) - means.min(axis=1) + 2 * pad
+    nb = int(np.ceil(span.max() / dy)) + 2
+    pos = (means - lo) / dy
+    i0 = np.floor(pos).astype(np.int64)
+    f = pos - i0
+    rows = (np.arange(m) * nb)[:, None]
+    hist = np.bincount((rows + i0).ravel(), (w[None, :] * (1.0 - f)).ravel(), minlength=m * nb)
+    hist += np.bincount((rows + i0 + 1).ravel(), (w[None, :] * f).ravel(), minlength=m * nb)
+    dens = gaussian_filter1d(hist.reshape(m, nb), bins_per_sd, axis=1, mode="constant", truncate=5.0)
+    p = dens / np.maximum(dens.sum(axis=1, keepdims=True), 1e-300)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        h = -np.sum(np.where(p > 0, p * np.log(p), 0.0), axis=1) + np.log(dy)
+    return np.maximum(h - 0.5 * np.log(2 * np.pi * np.e * noise ** 2), 0.0)

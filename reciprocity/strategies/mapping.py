@@ -110,11 +110,11 @@ class MapKeeper:
         return changed
 
     def model_error(self, base: float = 0.0) -> float:
-        """Relative error of the model's predicted readings on the believed map: at least
-        `base` (the platform's own) and ``MAPPED_MODEL_ERROR + UNSEEN_MODEL_ERROR x
-        unseen share``."""
+        """Relative error of the model's predicted readings on the believed map: `base`
+        (the model's own, known walls) and the believed walls' ``MAPPED_MODEL_ERROR +
+        UNSEEN_MODEL_ERROR x unseen share``, added in quadrature."""
         unseen = 1.0 - self.grid.seen_fraction
-        return float(max(base, MAPPED_MODEL_ERROR + UNSEEN_MODEL_ERROR * unseen))
+        return float(np.hypot(base, MAPPED_MODEL_ERROR + UNSEEN_MODEL_ERROR * unseen))
 
     def shortfall(self) -> float:
         """How far below the optimistic prediction a reading may fall (relative):

@@ -7,6 +7,7 @@ import numpy as np
 from arenas import ArenaError
 
 from ..errors import MeshError, SearchError
+from ..fem.discretisation import discretisation_error
 from ..fem.green import GreenSolver
 from ..imaging import COMBINATIONS, ImagingMap
 from ..intents import Measure
@@ -14,7 +15,7 @@ from ..outcome import MAX_SOURCES, StopReason
 from ..spaces import MeshSpace, mesh_space
 from ..models.green import cached_solver
 from .base import SearchContext, Status, Strategy
-from .information import expected_entropy, lattice_greens, systematic_support
+from .information import expected_entropy, lattice_greens, mutual_information, systematic_support
 from .mapping import MapKeeper
 
 # scipy's image filters, graph routines and k-d tree are imported where they are used:
@@ -75,6 +76,7 @@ MIN_NOISE = 1.0
 INFO_SPACING = 2.5
 #: Belief support points drawn per step by ``rule="info"``.
 INFO_SUPPORT = 16
+INFO_SCORE = "pairs"
 #: Relative likelihood of the tail checked by `tail_tol` (a Gaussian belief puts 99 %
 #: of its mass above it).
 TAIL_EPS = 0.01
@@ -88,9 +90,10 @@ MODE_MASS = 0.05
 #: Parameters a preset sets, and the defaults (no preset). Explicit parameters override
 #: both. ``extent_tol = inf`` is "no extent rule".
 DEFAULTS = dict(rule="axis", combine="product", sigma="calibrated", eps=0.1, area_tol=40.0,
-                extent_tol=5.0, d=6.0, reach=12.0, tail_tol=10.0)
+                extent_tol=5.0, d=6.0, reach=12.0, tail_tol=10.0, credible_radius=3.0, credible_mass=0.95)
 PRESETS = {"paper": dict(rule="nearest", combine="mean", sigma="noise", eps=0.1, area_tol=40.0,
-                         extent_tol=float("inf"), d=6.0, reach=12.0, tail_tol=float("inf"))}
+                         extent_tol=float("inf"), d=6.0, reach=12.0, tail_tol=float("inf"),
+                         credible_radius=float("inf"))}
 SIGMA_RULES = ("auto", "noise", "calibrated")
 #: ``sigma="calibrated"``: relative error of the model's predicted reading (the FEM field
 #: at h = 1 cm against the truth mesh and the painted floor near the source), added in
@@ -114,6 +117,9 @@ UNREACH_MIN_READINGS = 2
 PATH_SLACK = 2.0
 #: Default ``max_steps``: readings of a search for one source, and for several.
 MAX_STEPS = 30
+#: The error terms relative to the predicted reading, added in quadrature into the
+#: likelihood's ``model_error`` (see :meth:`ReciprocityStrategy._error_terms`).
+RELATIVE_TERMS = ("fixed", "discretisation", "platform", "strength")
 MAX_STEPS_SEVERAL = 60
 #: Default ``more_tol``: a search for several sources stops once the posterior
 #: probability of one more source is below it (see :mod:`.multi_source`).
@@ -130,7 +136,10 @@ class ReciprocityStrategy(Strategy):
     `area_tol` (step 12) and, unless ``extent_tol = inf``, also lies within `extent_tol`
     of the estimate, and, unless ``tail_tol = inf``, every node with ``P_M >=
     TAIL_EPS`` lies within `tail_tol` of it (no second mode is left, even an unlikely
-    one). Otherwise the next point is at least `d` from every earlier point,
+    one), and, unless ``credible_radius = inf``, the belief holds at least
+    `credible_mass` within `credible_radius` of the estimate (a second mode just beyond
+    the extent, which the area counts but cannot weigh, is not left at 14 % of the
+    belief). Otherwise the next point is at least `d` from every earlier point,
     reachable at `clearance` from the walls, and chosen by `rule` (step 13):
 
     ``"nearest"`` (step 13 of the paper)
@@ -202,7 +211,12 @@ class ReciprocityStrategy(Strategy):
       predicted reading as the model's own error;
     - ``rule="axis"`` instead of step 13's nearest point;
     - the extent rule (``extent_tol = 5 cm``);
-    - the tail rule (``tail_tol = 10 cm``).
+    - the tail rule (``tail_tol = 10 cm``);
+    - the credible rule (95 % of the belief within 3 cm of the estimate);
+    - the likelihood's error terms (`model_error`), added in quadrature: the belief's
+      discretisation, estimated from its own solver by halving the mesh
+      (:func:`~reciprocity.fem.discretisation.discretisation_error`), and the platform's
+      model error above.
 
     Parameters
     ----------
@@ -232,6 +246,11 @@ class ReciprocityStrategy(Strategy):
     tail_tol : float
         Largest distance (cm) from the estimate to a node with ``P_M >= TAIL_EPS`` for
         stopping; ``inf`` for none.
+    credible_radius : float
+        Radius (cm) within which the belief must hold `credible_mass` of its mass around
+        the estimate for stopping; ``inf`` for no credible rule.
+    credible_mass : float
+        Share of the belief (0 to 1) the credible rule asks for.
     d : float
         Minimum separation of observation points, cm.
     reach : float
@@ -251,6 +270,16 @@ class ReciprocityStrategy(Strategy):
         world's nominal strength; ``"fit"`` fits it per point by least squares instead
         (compared in ``benchmarks/reciprocity_rules.md``). Only with ``combine="product"``;
         the mean keeps the fit.
+    model_error : "estimate" or float
+        The model's relative error of a predicted reading, with ``combine="product"`` and a
+        known strength: ``"estimate"`` (default) adds in quadrature the belief's
+        discretisation (estimated from the solver, about 0.7 % at h = 1 cm) and, on a
+        platform with its own calibration, CALIBRATED_MODEL_ERROR; a number replaces
+        both. The terms used are kept in ``error_terms`` after :meth:`start`.
+    strength_error : float
+        Relative standard deviation of the stated strength (0: exactly known), added in
+        quadrature to `model_error`: a world stronger or weaker than stated moves every
+        reading by that fraction.
     h : float
         Mesh size (cm) of the solver built by :meth:`start` when none is given.
     solver : GreenSolver, optional
@@ -294,16 +323,19 @@ class ReciprocityStrategy(Strategy):
                  combine: str | None = None, sigma=None, eps: float | None = None,
                  area_tol: float | None = None, extent_tol: float | None = None,
                  d: float | None = None, reach: float | None = None,
-                 tail_tol: float | None = None, max_steps: int | None = None,
+                 tail_tol: float | None = None, credible_radius: float | None = None,
+                 credible_mass: float | None = None, max_steps: int | None = None,
                  clearance: float = 3.0, strength="arena", strength_range="decade",
                  h: float = 1.0, solver: GreenSolver | None = None, max_sources: int | None = None,
                  more_tol: float = MORE_TOL, survey_travel: float | None = None,
-                 survey_reach: float | str = "reach"):
+                 survey_reach: float | str = "reach", model_error: float | str = "estimate",
+                 strength_error: float = 0.0):
         super().__init__()
         if preset is not None and preset not in PRESETS:
             raise SearchError(f"preset must be one of {tuple(PRESETS)} or None; got {preset!r}")
         given = dict(rule=rule, combine=combine, sigma=sigma, eps=eps, area_tol=area_tol,
-                     extent_tol=extent_tol, d=d, reach=reach, tail_tol=tail_tol)
+                     extent_tol=extent_tol, d=d, reach=reach, tail_tol=tail_tol,
+                     credible_radius=credible_radius, credible_mass=credible_mass)
         p = {**DEFAULTS, **PRESETS.get(preset, {}), **{k: v for k, v in given.items() if v is not None}}
         if not 0 < p["eps"] < 1:
             raise SearchError(f"eps must lie strictly between 0 and 1; got {p['eps']!r}")
@@ -312,7 +344,9 @@ class ReciprocityStrategy(Strategy):
                 raise SearchError(f"{key} must be a positive number; got {p[key]!r}")
         if not np.isfinite(h) or h <= 0:
             raise SearchError(f"h must be a positive number; got {h!r}")
-        for key in ("extent_tol", "tail_tol"):
+        if not 0 < p["credible_mass"] < 1:
+            raise SearchError(f"credible_mass must lie strictly between 0 and 1; got {p['credible_mass']!r}")
+        for key in ("extent_tol", "tail_tol", "credible_radius"):
             if not (p[key] > 0):
                 raise SearchError(f"{key} must be a positive length in cm, or inf for none; "
                                   f"got {p[key]!r}")
@@ -352,6 +386,7 @@ class ReciprocityStrategy(Strategy):
         self.sigma = p["sigma"] if p["sigma"] in SIGMA_RULES else float(p["sigma"])
         self.eps, self.area_tol, self.extent_tol = float(p["eps"]), float(p["area_tol"]), float(p["extent_tol"])
         self.d, self.reach, self.tail_tol = float(p["d"]), float(p["reach"]), float(p["tail_tol"])
+        self.credible_radius, self.credible_mass = float(p["credible_radius"]), float(p["credible_mass"])
         self._max_steps = None if max_steps is None else int(max_steps)
         self.max_steps, self.clearance = self._max_steps or MAX_STEPS, float(clearance)
         self.max_sources = None if max_sources is None else int(max_sources)
@@ -364,12 +399,21 @@ class ReciprocityStrategy(Strategy):
                                         or not 0 < survey_reach < float("inf")):
             raise SearchError(f"survey_reach must be a positive length in cm or 'reach'; got {survey_reach!r}")
         self.survey_reach = survey_reach if survey_reach == "reach" else float(survey_reach)
+        if model_error != "estimate" and (isinstance(model_error, (bool, str)) or not isinstance(model_error, (int, float))
+                                          or not 0 <= model_error < 1):
+            raise SearchError(f"model_error must be 'estimate' or a fraction in [0, 1); got {model_error!r}")
+        self.model_error = model_error if model_error == "estimate" else float(model_error)
+        if isinstance(strength_error, bool) or not isinstance(strength_error, (int, float)) \
+                or not 0 <= strength_error < 1:
+            raise SearchError(f"strength_error must be a fraction in [0, 1); got {strength_error!r}")
+        self.strength_error = float(strength_error)
         self.strength, self.h, self.solver = strength, float(h), solver
         self.strength_range = strength_range
 
     def params(self) -> dict:
         return dict(preset=self.preset, rule=self.rule, reach=self.reach, eps=self.eps,
                     area_tol=self.area_tol, extent_tol=self.extent_tol, tail_tol=self.tail_tol, d=self.d,
+                    credible_radius=self.credible_radius, credible_mass=self.credible_mass,
                     sigma=self.sigma, sigma_used=getattr(self, "sigma_used", None),
                     max_steps=self.max_steps, clearance=self.clearance, combine=self.combine,
                     strength=self.strength if not isinstance(self.strength, float) else float(self.strength),
@@ -377,6 +421,8 @@ class ReciprocityStrategy(Strategy):
                     else list(self.strength_range),
                     max_sources=getattr(self, "sources_bound", self.max_sources), more_tol=self.more_tol,
                     survey_travel=self.survey_travel, survey_reach=self.survey_reach,
+                    model_error=self.model_error, strength_error=self.strength_error,
+                    model_error_used=getattr(self, "_model_error", None),
                     h=self.h if self.solver is None else self.solver.h)
 
     def reading_sigma(self, nominal: dict) -> float:
@@ -398,6 +444,23 @@ class ReciprocityStrategy(Strategy):
             return 0.0
         return float(nominal.get("reading_bias", 0.0))
 
+    def _error_terms(self, nominal: dict, offset: float) -> dict:
+        """The likelihood's error terms (see `model_error`): the reading noise and shared
+        offset (signal units), and the relative errors of a predicted reading, each a
+        fraction, added in quadrature: the belief's discretisation (estimated from the
+        solver, :func:`~reciprocity.fem.discretisation.discretisation_error`), the
+        platform's model (the car's floor print and sensor curve), the stated strength."""
+        terms = {"noise": self.sigma_used / np.sqrt(2.0), "offset": float(offset)}
+        if not isinstance(self.model_error, str):
+            terms["fixed"] = float(self.model_error)
+        else:
+            terms["discretisation"] = discretisation_error(self.solver).relative \
+                if self.solver.order == 1 else 0.0
+            calibrated = self.sigma == "calibrated" and "reading_noise" in nominal
+            terms["platform"] = CALIBRATED_MODEL_ERROR if calibrated else 0.0
+        terms["strength"] = float(self.strength_error)
+        return terms
+
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
         arena, pose = ctx.arena, ctx.start
@@ -412,8 +475,8 @@ class ReciprocityStrategy(Strategy):
         prior = self._prior_range(ctx) if c is None else None
         product = prior is None and self.combine == "product"
         offset = self.reading_bias(ctx.nominal) if product else 0.0
-        calibrated = self.sigma == "calibrated" and "reading_noise" in ctx.nominal
-        model_error = CALIBRATED_MODEL_ERROR if product and calibrated else 0.0
+        self.error_terms = self._error_terms(ctx.nominal, offset) if product else {}
+        model_error = float(np.sqrt(sum(v * v for k, v in self.error_terms.items() if k in RELATIVE_TERMS)))
         self._model_error = model_error
         if self.mapping is not None and product:
             model_error = self.mapping.model_error(model_error)
@@ -598,7 +661,13 @@ class ReciprocityStrategy(Strategy):
         return im.area(self.eps) < self.area_tol and extent <= self.extent_tol and self._tail_within(estimate, im)
 
     def _tail_within(self, estimate: np.ndarray, im: ImagingMap) -> bool:
-        """Whether every node of `im` with ``P_M >= TAIL_EPS`` lies within `tail_tol` of `estimate`."""
+        """Whether the belief of `im` holds at least `credible_mass` within `credible_radius`
+        of `estimate` (the credible rule) and every node with ``P_M >= TAIL_EPS`` lies
+        within `tail_tol` of it (the tail rule)."""
+        if np.isfinite(self.credible_radius):
+            near = np.sum((im.nodes - estimate) ** 2, axis=1) <= self.credible_radius ** 2
+            if float(im.weights()[near].sum()) < self.credible_mass:
+                return False
         if not np.isfinite(self.tail_tol):
             return True
         tail = im.nodes[im.values() >= TAIL_EPS]
@@ -790,9 +859,12 @@ class ReciprocityStrategy(Strategy):
             return None, 0.0
         c = self.imaging.strength_map()[lat.nodes[anchors]]
         means = lat.columns(anchors)[cand] * c[None, :]               # c_i G(y, x_i), reciprocity
-        score = expected_entropy(means, w, self.sigma_used / np.sqrt(2.0))
-        best = int(np.argmin(score))
-        return lat.points[cand[best]].copy(), float(-w @ np.log(w) - score[best])
+        if INFO_SCORE == "mi":
+            gain = mutual_information(means, w, self.sigma_used / np.sqrt(2.0))
+        else:
+            gain = -w @ np.log(w) - expected_entropy(means, w, self.sigma_used / np.sqrt(2.0))
+        best = int(np.argmax(gain))
+        return lat.points[cand[best]].copy(), float(gain[best])
 
     def _axis_point(self, allowed: np.ndarray) -> np.ndarray | None:
         """The ``"axis"`` rule once the imaging mass is concentrated, else None."""

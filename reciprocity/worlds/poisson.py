@@ -17,6 +17,7 @@ import numpy as np
 from shapely.geometry import Polygon
 
 from arenas import Arena, ArenaError
+from arenas.memo import sized_cache
 
 from ..errors import SearchError
 from ..outcome import MAX_SOURCES
@@ -36,7 +37,12 @@ TRUTH_ORDER = 2
 TRUTH_GRADING = 0.75
 
 
-@lru_cache(maxsize=8)
+#: Bytes of truth solvers kept per process (a P2 solver of a 200 cm arena holds about 120 MB
+#: once factorized).
+TRUTH_CACHE_BYTES = 500 * 2**20
+
+
+@sized_cache(TRUTH_CACHE_BYTES, maxsize=8)
 def truth_solver(arena: Arena, h: float) -> GreenSolver:
     """The truth's own solver of `arena` (its true walls) at mesh size `h` (cm): P2 elements
     on its own graded mesh, kept for the truth alone (it factorizes on its first solve, and

@@ -176,3 +176,56 @@ def test_info_rule_statistics_on_empty(empty):
     assert binom.cdf(9, 12, 0.99) < 0.01
     assert ok >= 10
     assert np.median(counts) <= 6
+
+
+def test_the_likelihood_adds_its_error_terms_in_quadrature(empty):
+    arena, solver = empty
+    from reciprocity.fem.discretisation import discretisation_error
+    from reciprocity.strategies.reciprocal import CALIBRATED_MODEL_ERROR
+    disc = discretisation_error(solver).relative
+    s = started(solver, arena)
+    assert s.error_terms["discretisation"] == disc > 0 and s.error_terms["noise"] == pytest.approx(12.0)
+    assert s.imaging.model_error == pytest.approx(disc)
+    strong = started(solver, arena, strength_error=0.2)
+    assert strong.imaging.model_error == pytest.approx(np.hypot(disc, 0.2))
+    car = r.ReciprocityStrategy(solver=solver)
+    car.start(r.SearchContext("poisson", dict(arena=arena.without_scenario(), strength=850.0, noise=12.0,
+                                              reading_noise=2.0), np.array([[20.0, 20.0, 0.0]]),
+                              np.random.default_rng(0)))
+    assert car.imaging.model_error == pytest.approx(np.hypot(disc, CALIBRATED_MODEL_ERROR))
+    fixed = started(solver, arena, model_error=0.03)
+    assert fixed.imaging.model_error == pytest.approx(0.03) and "discretisation" not in fixed.error_terms
+    assert fixed.params()["model_error_used"] == pytest.approx(0.03)
+    assert started(solver, arena, preset="paper").imaging.model_error == 0.0    # eq. (8) has none
+    for bad in (dict(model_error=1.5), dict(model_error="guess"), dict(strength_error=-0.1),
+                dict(strength_error=True), dict(credible_mass=1.0), dict(credible_radius=0.0)):
+        with pytest.raises(r.SearchError, match=next(iter(bad))):
+            r.ReciprocityStrategy(**bad)
+
+
+def test_the_credible_rule_holds_a_search_whose_belief_has_a_near_second_mode():
+    """Two modes 8 cm apart, the second holding about a sixth of the belief: the tail rule
+    (10 cm) would stop; the credible rule (95 % within 3 cm) does not, until it goes."""
+    arena = arenas.load("empty")
+    solver = cached_solver(arena.without_scenario(), 1.5)
+    s = started(solver, arena)
+    nodes = s.imaging.nodes
+    a, b = np.array([70.0, 70.0]), np.array([78.0, 70.0])
+
+    def belief(second):
+        im = s.imaging
+        if not im.n:
+            im.add((30.0, 30.0), 1.0)
+        P = np.exp(-np.sum((nodes - a) ** 2, axis=1) / 2.0) + second * np.exp(-np.sum((nodes - b) ** 2, axis=1) / 2.0)
+        im._cache.clear()
+        im._cache["P"] = P / P.max()
+        return im
+
+    im = belief(0.18)
+    est = im.estimate()
+    assert np.hypot(*(est - a)) < 1.0
+    assert 0.7 < im.weights()[np.hypot(*(nodes - est).T) <= 3.0].sum() < 0.95
+    loose = started(solver, arena, credible_radius=float("inf"))
+    assert loose._tail_within(est, im) and not s._tail_within(est, im)
+    im = belief(0.0)
+    assert s._tail_within(im.estimate(), im)
