@@ -97,7 +97,13 @@ from __future__ import annotations
 
 from ..paper_table import PaperTable, PaperValue, register
 
-__all__ = ["LANDA2020_TESTBED", "TESTBED_MISMATCH"]
+__all__ = ["LANDA2020_TESTBED", "PAPER_CAR", "TESTBED_MISMATCH"]
+
+#: The car of ``--protocol paper``, as the paper ran it (section V): the HJ value functions
+#: of a bank of targets 12.7 cm apart (the nearest one drives the car), and one raw
+#: 30 Hz sample per reading (a dwell of 1/30 s), whose noise is the paper's sigma = 12 ADC
+#: counts (see the module doc).
+PAPER_CAR = {"planner": "bank", "bank_spacing": 12.7, "dwell": 1 / 30}
 
 #: The testbed imperfection of ``--protocol testbed``: inferred from the paper's two errors
 #: (see the module doc), not reported by the paper.
@@ -121,12 +127,16 @@ LANDA2020_TESTBED = register(PaperTable(
     protocols={"paper": (
         lambda runs: {"strategies": {"reciprocity": {"preset": "paper"},
                                      "gradient": {"stop_radius": 0, "stall_steps": 0}},
-                      "scenarios": ["paper"], "platform": "car", "seeds": runs},
-        "Protocol 'paper': both strategies as the paper states them: reciprocity with "
-        "preset='paper' (step 13's nearest point, eq. (8)'s mean, sigma the noise, no extent or "
-        "tail rule), gradient ascent stopping at I_max only (stop_radius=0, stall_steps=0). The "
-        "paper reports one run of each (no interval); ours differ in the sensor noise and the "
-        "car's actuation only."),
+                      "scenarios": ["paper"], "platform": "car", "platform_options": dict(PAPER_CAR),
+                      "seeds": runs},
+        "Protocol 'paper': both strategies as the paper states them, on the car as the paper ran "
+        "it: reciprocity with preset='paper' (step 13's nearest point, eq. (8)'s mean, sigma the "
+        "noise of one reading, no extent or tail rule; eps = 0.7, A_eps = 40 cm², d = 12.7 cm are "
+        "ours, the paper gives none: benchmarks/landa_paper_preset.md), gradient ascent stopping "
+        "at I_max only (stop_radius=0, stall_steps=0); the car plans with the bank of value "
+        "functions 12.7 cm apart and reads one raw 30 Hz sample per reading (planner=bank, "
+        "dwell=1/30 s). The paper reports one run of each (no interval); ours differ in the "
+        "sensor noise and the car's actuation only."),
         "testbed": (
         lambda runs: {"strategies": ["reciprocity", "gradient"], "platform": "car", "seeds": runs,
                       "scenarios": [{"name": "paper", "label": "paper-testbed",
