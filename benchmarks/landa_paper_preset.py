@@ -122,20 +122,22 @@ def wilson(k: int, n: int) -> tuple[float, float, float]:
     return p, max(0.0, c - h), min(1.0, c + h)
 
 
-def stops(per_run: dict, j: int, area_tol: float) -> list[tuple[int, float, bool]]:
-    """Per run: (readings at the stop, error then, whether the rule stopped it) for
-    threshold index `j` and tolerance `area_tol` (a run that never stops: its last reading)."""
+def stops(per_run: dict, j: int, area_tol: float) -> list[tuple[int, float, bool, bool]]:
+    """Per run: (readings at the stop, error then, whether the rule stopped it, whether
+    the region was empty then) for threshold index `j` and tolerance `area_tol` (a run
+    that never stops: its last reading)."""
     out = []
     for steps in per_run.values():
         hit = next((k for k, (areas, _) in enumerate(steps, 1) if areas[j] < area_tol), None)
         k = hit or len(steps)
-        out.append((k, steps[k - 1][1], hit is not None))
+        out.append((k, steps[k - 1][1], hit is not None, hit is not None and steps[k - 1][0][j] == 0))
     return out
 
 
 def table(per_run: dict, thresholds, what: str) -> list[str]:
-    """Markdown rows: readings (mean, t interval), stopped, success (Wilson), median error."""
-    lines = [f"| {what} | A_ε cm² | readings | stopped | success (≤ 5 cm) | error median | error p90 |",
+    """Markdown rows: readings (mean, t interval), stopped (of which on an empty region),
+    success (Wilson), median and 90th percentile of the error."""
+    lines = [f"| {what} | A_ε cm² | readings | stopped (empty) | success (≤ 5 cm) | error median | error p90 |",
              "|---|---:|---|---:|---|---:|---:|"]
     for j, t in enumerate(thresholds):
         for a in AREAS:
@@ -146,7 +148,8 @@ def table(per_run: dict, thresholds, what: str) -> list[str]:
             err = np.array([r[1] for r in res])
             m, lo, hi = t_interval(k)
             p, plo, phi = wilson(ok, n)
-            lines.append(f"| {t:g} | {a:g} | {m:.1f} [{lo:.1f}, {hi:.1f}] | {sum(r[2] for r in res)}/{n} | "
+            lines.append(f"| {t:g} | {a:g} | {m:.1f} [{lo:.1f}, {hi:.1f}] | "
+                         f"{sum(r[2] for r in res)}/{n} ({sum(r[3] for r in res)}) | "
                          f"{ok}/{n} [{100 * plo:.0f}, {100 * phi:.0f} %] | {np.median(err):.2f} | "
                          f"{np.percentile(err, 90):.1f} |")
     return lines
