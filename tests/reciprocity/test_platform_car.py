@@ -170,11 +170,10 @@ def test_the_car_states_the_noise_of_its_own_readings(small, world):
     noise: ``noise`` in the strategy's nominal description is the car's (one raw 30 Hz
     sample with ``dwell = 1/30`` s, about sqrt(30) times noisier than a 1 s dwell's
     average), and the world's 12 is not shown beside it."""
-    rng = np.random.default_rng(0)
     said = {}
     for dwell in (1.0, 1 / 30):
         car = make_car_platform(world, px_per_mm=0.5, dwell=dwell)
-        car.reset([10.0, 10.0, 0.0], world, rng)
+        car.reset([10.0, 10.0, 0.0], world, np.random.default_rng(0))   # the same calibration
         said[dwell] = car.nominal()
         assert said[dwell]["noise"] == said[dwell]["reading_noise"] and "noise" in car.restates
     raw, dwelt = said[1 / 30], said[1.0]
