@@ -149,7 +149,31 @@ def cmd_reproduce(args) -> int:
     print(text, end="")
     if files:
         print(f"figures: {', '.join(str(f) for f in files)}")
+    if table.protocols or args.protocol not in (None, "default"):
+        _print_protocols(args.table, Path(out), args.protocol, args.rows)
     return 0
+
+
+def _print_protocols(name: str, out: Path, protocol: str | None, rows: str | None) -> None:
+    """After a table's run, every protocol of it whose results lie beside `out` (in the
+    default folders ``reproduce_TABLE`` and ``reproduce_TABLE-PROTOCOL`` of the same parent
+    folder), side by side with verdicts, when there are at least two."""
+    from .reproduce import _table, compare, protocols_markdown
+    base = _table(name)
+    columns = []
+    for p in ("default", *base.protocols):
+        folder = out if p == (protocol or "default") else \
+            out.parent / (f"reproduce_{name}" + ("" if p == "default" else f"-{p}"))
+        if not (folder / "campaign.json").exists():
+            continue
+        table = base.protocol(p).rows(rows)
+        got = compare(table, folder)
+        if any(r["runs"] for r in got):
+            columns.append((p, got))
+    if len(columns) > 1:
+        text = protocols_markdown(base.rows(rows), columns)
+        (out / "protocols.md").write_text(text)
+        print("\n" + text, end="")
 
 
 def add_commands(subparsers) -> None:

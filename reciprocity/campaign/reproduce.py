@@ -34,7 +34,7 @@ from .spec import MAX_SEEDS
 from . import tables  # noqa: F401  (registers the papers' tables)
 
 __all__ = ["PaperValue", "PaperTable", "TABLES", "AMONG", "register", "reproduce", "compare",
-           "comparison_markdown"]
+           "comparison_markdown", "protocols_markdown", "verdict"]
 
 def _table(name: str) -> PaperTable:
     if name not in TABLES:
@@ -58,7 +58,8 @@ def compare(table: PaperTable, directory) -> list[dict]:
         Per paper value: ``label``, ``variant``, ``scenario``, ``metric``, ``among``,
         ``rate`` (a boolean column), ``paper``, ``pm``, ``runs`` (the runs averaged),
         ``of`` (all finished runs of the row), ``ours`` (mean, or rate), ``lo``, ``hi``
-        (95 % interval; None with fewer than two runs for a mean).
+        (95 % interval; None with fewer than two runs for a mean), ``at_least`` (the share
+        of those runs at or above the paper's value; None for a rate or without one).
     """
     con = open_report_db(directory)
     types = {name: typ for name, typ, *_ in con.execute("DESCRIBE runs").fetchall()}
@@ -84,9 +85,13 @@ def compare(table: PaperTable, directory) -> list[dict]:
             sql = (f"SELECT count({col}), avg({col}), avg({col}) - {half}, avg({col}) + {half} "
                    f"FROM runs WHERE {where}")
             n, mean, lo, hi = con.execute(sql, params).fetchone()
+        at_least = None
+        if pv.metric in types and not rate and pv.value is not None and n:
+            at_least = con.execute(f'SELECT avg(("{pv.metric}"::DOUBLE >= $p)::INT) FROM runs WHERE {where} '
+                                   f'AND "{pv.metric}" IS NOT NULL', {**params, "p": pv.value}).fetchone()[0]
         out.append(dict(label=pv.label, variant=pv.variant, scenario=pv.scenario,
                         metric=pv.metric, among=pv.among, rate=rate, paper=pv.value, pm=pv.pm,
-                        runs=n, of=of, ours=mean, lo=lo, hi=hi))
+                        runs=n, of=of, ours=mean, lo=lo, hi=hi, at_least=at_least))
     return out
 
 
@@ -136,6 +141,69 @@ def comparison_markdown(table: PaperTable, rows: list[dict]) -> str:
                      f"[{f(r['lo'])}, {f(r['hi'])}] | {runs} |")
     if table.note:
         lines += ["", table.note]
+    return "\n".join(lines) + "\n"
+
+
+def verdict(row: dict) -> str:
+    """Where the paper's value falls among ours, in words.
+
+    ``"in our 95 % CI"`` when it lies in our interval; else ``"above our CI"`` or
+    ``"below our CI"``, with, for a mean, the share of our runs at or above the paper's
+    value (a paper that reports one run is one draw, and this says how ordinary a draw it
+    would be among ours); ``"–"`` without a paper value or without our interval.
+
+    Parameters
+    ----------
+    row : dict
+        One row of :func:`compare`.
+
+    Returns
+    -------
+    str
+    """
+    paper, lo, hi = row["paper"], row["lo"], row["hi"]
+    if paper is None or lo is None or hi is None or lo != lo or hi != hi:
+        return "–"
+    if lo <= paper <= hi:
+        return "in our 95 % CI"
+    side = "above" if paper > hi else "below"
+    if row.get("at_least") is None:
+        return f"{side} our CI"
+    return f"{side} our CI; {_pct(row['at_least'])} of ours ≥ paper"
+
+
+def protocols_markdown(table: PaperTable, columns: list[tuple[str, list[dict]]]) -> str:
+    """Several protocols of one table side by side, each with its verdicts.
+
+    Parameters
+    ----------
+    table : PaperTable
+        The table (its title, reference and rows).
+    columns : list of (str, list of dict)
+        Per protocol: its name and its :func:`compare` rows (the same paper values, in the
+        same order).
+
+    Returns
+    -------
+    str
+        A Markdown table: row, metric, paper, then per protocol our mean with its 95 %
+        interval and the verdict (:func:`verdict`).
+    """
+    head = "| row | metric | paper | " + " | ".join(f"{name} | verdict" for name, _ in columns) + " |"
+    lines = [f"{table.reference}: {table.title} (protocols side by side)", "", head,
+             "|---|---|---:|" + "---|---|" * len(columns)]
+    for i, pv in enumerate(table.paper):
+        cells = []
+        for _, rows in columns:
+            r = rows[i]
+            d = _digits(r["ours"])
+
+            def f(x, rate=r["rate"], d=d):
+                return _pct(x) if rate else _num(x, d)
+            cells.append(f"{f(r['ours'])} [{f(r['lo'])}, {f(r['hi'])}] | {verdict(r)}")
+        rate = columns[0][1][i]["rate"] if columns else False
+        paper = _pct(pv.value) if rate else _paper(pv.value)
+        lines.append(f"| {pv.label} | {pv.metric} | {paper} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 

@@ -7,6 +7,8 @@ cap, duplicate keys refused)::
     seed: 2026                     # campaign seed (default 0); --seed overrides it
     seeds: 20                      # episodes per (scenario, strategy variant)
     platform: point                # point | car | omitted: the scenario's default
+    platform_options:              # optional: options of that platform, e.g. the car's
+      planner: bank                # (reciprocity.platforms.car.CAR_KEYS); needs platform
     agents: 3                      # optional: number of observers
     random_source: true            # optional: draw source and start per seed (see below)
     pairs: supported               # optional: run only the (scenario, strategy) pairs that
@@ -108,8 +110,8 @@ MAX_PAIRS = 10_000
 #: Largest campaign seed.
 MAX_SEED = 2**63 - 1
 
-_TOP_KEYS = {"name", "seed", "seeds", "platform", "agents", "random_source", "strategies",
-             "scenarios", "pairs", "scheduler"}
+_TOP_KEYS = {"name", "seed", "seeds", "platform", "platform_options", "agents", "random_source",
+             "strategies", "scenarios", "pairs", "scheduler"}
 _SCENARIO_KEYS = {"name", "label", "world", "random_source", "random_start"}
 _SCHEDULER_KEYS = {"address", "tls"}
 _TLS_KEYS = ("ca_file", "cert", "key")
@@ -184,6 +186,8 @@ class EpisodeTask:
         Index of the seed, 0 ... seeds - 1.
     seed : int
         Episode seed, from :func:`episode_seed`.
+    platform_options : dict, optional
+        The platform's options (the spec's ``platform_options``; None: its defaults).
     """
 
     campaign: str
@@ -194,6 +198,7 @@ class EpisodeTask:
     agents: int | None
     seed_index: int
     seed: int
+    platform_options: dict | None = None
 
 
 def episode_seed(campaign_seed: int, seed_index: int) -> int:
@@ -250,6 +255,9 @@ class CampaignSpec:
         where episodes run does not change them).
     tls : TLSFiles or None
         Client certificate for a ``tls://`` `scheduler`.
+    platform_options : dict or None
+        Options of `platform` (the car's :data:`~reciprocity.platforms.car.CAR_KEYS`, the
+        point observer's ``dwell``, ``route_h``); None: its defaults.
     """
 
     name: str
@@ -263,6 +271,7 @@ class CampaignSpec:
     skip: frozenset = frozenset()
     scheduler: str | None = None
     tls: TLSFiles | None = None
+    platform_options: dict | None = None
 
     @property
     def n_episodes(self) -> int:
@@ -291,7 +300,7 @@ class CampaignSpec:
                     if (sc.label, v.label) in self.skip:
                         continue
                     yield EpisodeTask(self.name, f"{sc.label}/{v.label}/{i}", sc, v,
-                                      self.platform, self.agents, i, seed)
+                                      self.platform, self.agents, i, seed, self.platform_options)
 
 
 def load_spec(path, *, seed: int | None = None) -> CampaignSpec:
@@ -366,6 +375,7 @@ def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
     platform = data.get("platform")
     if platform is not None and not isinstance(platform, str):
         raise SearchError(f"platform must be a name (point, car, walker, ...); got {platform!r}")
+    platform_options = _platform_options(data.get("platform_options"), platform)
     agents = None if data.get("agents") is None else _int(data["agents"], "agents", 1, MAX_AGENTS)
     random_source = _bool(data.get("random_source", False), "random_source")
     scheduler, tls = _scheduler(data.get("scheduler"), base)
@@ -380,7 +390,8 @@ def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
     if only is not None:
         scenarios = [s for s in scenarios if any(s.label == p[0] for p in only)]
         variants = [v for v in variants if any(v.label == p[1] for p in only)]
-    skip = _check_pairs(scenarios, variants, platform, agents, supported_only=pairs == "supported")
+    skip = _check_pairs(scenarios, variants, platform, agents, supported_only=pairs == "supported",
+                        platform_options=platform_options)
     if only is not None:
         skip |= {(s.label, v.label) for s in scenarios for v in variants} - only
     source = dict(name=name, seed=seed, seeds=seeds, platform=platform, agents=agents,
@@ -392,10 +403,24 @@ def parse_spec(data: Mapping, *, base_dir=None) -> CampaignSpec:
                                   **({"random_start": True} if s.random_start else {}))
                              for s in scenarios],
                   **({"pairs": "supported"} if pairs == "supported" else {}),
+                  # only when set: the hashes of earlier campaigns stay valid
+                  **({"platform_options": platform_options} if platform_options else {}),
                   **({"pairs": sorted(map(list, only))} if only is not None else {}))
     _jsonable(source)
     return CampaignSpec(name, seed, seeds, platform, agents, tuple(variants), tuple(scenarios),
-                        source, frozenset(skip), scheduler, tls)
+                        source, frozenset(skip), scheduler, tls, platform_options or None)
+
+
+def _platform_options(value, platform: str | None) -> dict:
+    """The spec's ``platform_options``: a mapping of option names to plain values, given
+    only with ``platform`` (each option is checked with every scenario, by the platform)."""
+    if value is None:
+        return {}
+    if platform is None:
+        raise SearchError("platform_options needs platform (point, car, ...): options belong to one platform")
+    if not isinstance(value, Mapping) or not all(isinstance(k, str) for k in value):
+        raise SearchError(f"platform_options must be a mapping of option names to values; got {value!r}")
+    return dict(value)
 
 
 def _only_pairs(pairs: list, scenarios, variants) -> set[tuple[str, str]]:
@@ -658,13 +683,14 @@ def entry_scenario(entry: ScenarioEntry, scenario: Scenario | None = None) -> Sc
     return dataclasses.replace(sc, starts=None)
 
 
-def _check_pairs(scenarios, variants, platform, agents, *, supported_only: bool = False) -> set:
+def _check_pairs(scenarios, variants, platform, agents, *, supported_only: bool = False,
+                 platform_options: dict | None = None) -> set:
     """Check every pair; return the (scenario label, variant label) pairs to skip (with
     `supported_only`, those whose strategy does not apply to the scenario's world)."""
     skip = set()
     for sc in scenarios:
         try:
-            skip |= _check_scenario(sc, variants, platform, agents, supported_only)
+            skip |= _check_scenario(sc, variants, platform, agents, supported_only, platform_options)
         except SearchError:
             raise
         except (TypeError, ValueError) as exc:   # a value of the wrong type deep in a world
@@ -672,7 +698,8 @@ def _check_pairs(scenarios, variants, platform, agents, *, supported_only: bool 
     return skip
 
 
-def _check_scenario(sc: ScenarioEntry, variants, platform, agents, supported_only: bool) -> set:
+def _check_scenario(sc: ScenarioEntry, variants, platform, agents, supported_only: bool,
+                    platform_options: dict | None = None) -> set:
     from .. import api
     from ..strategies import STRATEGIES
     scenario = entry_scenario(sc)
@@ -691,7 +718,8 @@ def _check_scenario(sc: ScenarioEntry, variants, platform, agents, supported_onl
             raise SearchError(f"strategy {v.strategy!r} does not apply to scenario "
                               f"{sc.label!r} (world {scenario.world!r}); it applies to "
                               f"{', '.join(worlds)}")
-        api.check(scenario, v.strategy, params=v.params, platform=platform, agents=agents)
+        api.check(scenario, v.strategy, params=v.params, platform=platform, agents=agents,
+                  platform_options=platform_options)
     if len(skip) == len(variants):
         raise SearchError(f"no strategy of the spec applies to scenario {sc.label!r} "
                           f"(world {scenario.world!r})")

@@ -109,7 +109,8 @@ def execute_task(task: EpisodeTask):
     if task.scenario.random_source:
         world.update(world_draw(sc, task.seed))
     return api.execute(sc, task.variant.strategy, seed=task.seed, params=dict(task.variant.params),
-                       platform=task.platform, agents=task.agents, world=world or None)
+                       platform=task.platform, agents=task.agents, world=world or None,
+                       platform_options=task.platform_options)
 
 
 def run_task(task: EpisodeTask) -> dict:

@@ -135,7 +135,9 @@ class SearchEnv:
         # on the true walls? (the agent gets only the platform's own reachability, on its map)
         reach = plats[0].truly_reachable(world.sources)
         self._source_reachable = True if reach is None else bool(np.all(reach))
-        task = Task(world=world.kind, scenario=sc.name, world_nominal=world.nominal(),
+        # a platform that reads the world its own way restates what its readings are
+        world_nominal = {k: v for k, v in world.nominal().items() if k not in plats[0].restates}
+        task = Task(world=world.kind, scenario=sc.name, world_nominal=world_nominal,
                     platform=self.platform_name, platform_nominal=plats[0].nominal(),
                     limits=_limits(plats[0]), starts=np.array([p.pose.copy() for p in plats]),
                     max_steps=self.max_steps, reachable=plats[0].reachable)

@@ -57,6 +57,12 @@ class Platform(ABC):
         truth."""
         return self.reachable(points)
 
+    #: Keys of the world's nominal description that this platform's :meth:`nominal`
+    #: states in its place, because it reads the world its own way (the car: ``noise``,
+    #: its calibrated reading noise, not the world's point-reading noise). Any other key
+    #: both give is an error (:attr:`reciprocity.task.Task.nominal`).
+    restates: tuple[str, ...] = ()
+
     def nominal(self) -> dict:
         """What the platform knows of its own readings, added to the world's nominal
         description a strategy sees (e.g. ``reading_noise``: the standard deviation of one

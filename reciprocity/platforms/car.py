@@ -153,6 +153,9 @@ class CarPlatform(Platform):
 
     name = "car"
     intents = (Measure, SampleGradient, StepToward)
+    #: The car reads the world through its own sensor: the noise of its readings is the
+    #: calibration's (:meth:`nominal`), not the world's point-reading ``noise``.
+    restates = ("noise",)
 
     def __init__(self, testbed: Testbed, options: DrivingOptions | None = None, *,
                  believed: Arena | None = None, progress: bool = False, lidar: Lidar | None = None,
@@ -261,12 +264,16 @@ class CarPlatform(Platform):
     def nominal(self) -> dict:
         """``reading_noise``: the calibrated standard deviation of one dwell's reading,
         signal units (:meth:`arenas.sensor.Calibration.signal_noise` over the dwell's
-        samples); ``reading_bias``: the part of it that is one offset shared by every
-        reading of the run (the calibration fit's error)."""
+        ``round(dwell x 30 Hz)`` samples, at least one: ``dwell = 1/30`` s is one raw
+        sample); ``noise``: the same number, in place of the world's point-reading noise
+        (the key strategies read as "the noise of a reading"); ``reading_bias``: the part
+        of it that is one offset shared by every reading of the run (the calibration
+        fit's error)."""
         tb = self.testbed
         n = max(1, int(round(self.options.dwell * tb.sensor.rate)))
         independent, shared = tb.calibration.signal_noise_parts(tb.floor.mapping, n)
-        return dict(reading_noise=float(np.hypot(independent, shared)), reading_bias=float(shared))
+        total = float(np.hypot(independent, shared))
+        return dict(reading_noise=total, noise=total, reading_bias=float(shared))
 
     def summary(self) -> dict:
         tb = self.testbed

@@ -40,6 +40,31 @@ def test_digest_ignores_seeds_but_not_the_rest():
     assert parse_spec({**BASE, "strategies": {"reciprocity": {"h": 4.0}}}).digest != a.digest
 
 
+def test_platform_options_reach_every_episode_and_the_digest():
+    """``platform_options`` go to every episode's platform and into the digest; a spec
+    without them hashes as before (earlier campaigns resume)."""
+    car = dict(BASE, platform="car", scenarios=["paper"], seeds=2)
+    plain = parse_spec(car)
+    spec = parse_spec({**car, "platform_options": {"planner": "bank", "bank_spacing": 12.7, "dwell": 1 / 30}})
+    assert plain.platform_options is None and "platform_options" not in plain.source
+    assert spec.platform_options == {"planner": "bank", "bank_spacing": 12.7, "dwell": 1 / 30}
+    assert {t.platform_options["planner"] for t in spec.tasks()} == {"bank"}
+    assert spec.digest != plain.digest
+
+
+@pytest.mark.parametrize("change, match", [
+    ({"platform_options": {"planner": "bank"}}, "platform_options needs platform"),
+    ({"platform": "car", "platform_options": ["bank"]}, "platform_options must be a mapping"),
+    ({"platform": "car", "platform_options": {"plannr": "bank"}}, "unknown car option.*plannr"),
+    ({"platform": "car", "platform_options": {"dwell": 0}}, "dwell"),
+    ({"platform": "car", "platform_options": {"planner": "astar"}}, "planner must be one of"),
+])
+def test_bad_platform_options_are_refused_at_parse_time(change, match):
+    with pytest.raises(SearchError, match=match) as info:
+        parse_spec({**BASE, "scenarios": ["paper"], **change})
+    assert "\n" not in str(info.value)
+
+
 def test_spec_file_with_scenario_entries(tmp_path):
     f = tmp_path / "c.yaml"
     f.write_text("seeds: 2\nrandom_source: true\nstrategies: [gradient]\n"

@@ -11,6 +11,8 @@ from reciprocity.platforms.car import CarPlatform, DrivingOptions, make_car_plat
 from reciprocity.errors import UnreachableTarget
 from reciprocity.intents import Measure, SampleGradient, StepToward
 from reciprocity.api import strategy_parameters
+from reciprocity.env import SearchEnv
+from reciprocity.scenarios import load_scenario
 
 
 def search(arena, strategy, *, seed=0, h=1.5, source=None, params=None, car=None, platform="car"):
@@ -161,6 +163,26 @@ def test_gradient_stops_at_sensor_saturation(small):
     assert s["n_samples"] > s["n_measurements"]  # gradient samples were taken
     ours = search(small, "gradient", platform="car", seed=4, h=1.5, car={"px_per_mm": 0.5})[0].summary
     assert ours["success"] and ours["n_samples"] < s["n_samples"] and ours["collisions"] == 0, ours
+
+
+def test_the_car_states_the_noise_of_its_own_readings(small, world):
+    """The car's readings carry its calibration's noise, not the world's point-reading
+    noise: ``noise`` in the strategy's nominal description is the car's (one raw 30 Hz
+    sample with ``dwell = 1/30`` s, about sqrt(30) times noisier than a 1 s dwell's
+    average), and the world's 12 is not shown beside it."""
+    said = {}
+    for dwell in (1.0, 1 / 30):
+        car = make_car_platform(world, px_per_mm=0.5, dwell=dwell)
+        car.reset([10.0, 10.0, 0.0], world, np.random.default_rng(0))   # the same calibration
+        said[dwell] = car.nominal()
+        assert said[dwell]["noise"] == said[dwell]["reading_noise"] and "noise" in car.restates
+    raw, dwelt = said[1 / 30], said[1.0]
+    independent = [np.sqrt(d["noise"] ** 2 - d["reading_bias"] ** 2) for d in (raw, dwelt)]
+    assert raw["reading_bias"] == dwelt["reading_bias"]           # one calibration, shared
+    assert 4.0 < independent[0] / independent[1] < np.sqrt(30.0)   # grey quantisation is in both
+    env = SearchEnv(load_scenario(small), platform="car", platform_options={"px_per_mm": 0.5, "dwell": 1 / 30})
+    nominal = env.reset(seed=0)[1]["task"].nominal
+    assert nominal["noise"] == nominal["reading_noise"] != world.noise
 
 
 def test_driving_options_are_validated():

@@ -36,7 +36,7 @@ def test_paper_preset_is_algorithm_1(empty):
     arena, solver = empty
     s = started(solver, arena, preset="paper")
     assert (s.rule, s.combine, s.sigma, s.eps, s.extent_tol, s.tail_tol) == (
-        "nearest", "mean", "noise", 0.1, np.inf, np.inf)
+        "nearest", "mean", "noise", 0.7, np.inf, np.inf)
     assert s.sigma_used == 12.0                      # eq. (7): sigma^2 is the noise variance
     assert PRESETS["paper"]["area_tol"] == s.area_tol and s.d == PRESETS["paper"]["d"]
     over = started(solver, arena, preset="paper", sigma=17.0, rule="axis")

@@ -165,6 +165,35 @@ def test_reproduce_protocol_on_the_command_line(tmp_path, capsys):
     assert not (tmp_path / "x").exists()
 
 
+def test_protocols_found_beside_are_printed_side_by_side(tmp_path, capsys):
+    """A protocol's run prints, after its own table, every protocol whose results lie in
+    the default folders beside it, one column and verdict each; a lone protocol does not."""
+    common = ["--runs", "1", "--workers", "1", "--quiet"]
+    assert main(["reproduce", "ristic2014-table1", "--out", str(tmp_path / "reproduce_ristic2014-table1"),
+                 *common]) == 0
+    assert "side by side" not in capsys.readouterr().out
+    out = tmp_path / "reproduce_ristic2014-table1-paper"
+    assert main(["reproduce", "ristic2014-table1", "--protocol", "paper", "--out", str(out), *common]) == 0
+    text = capsys.readouterr().out
+    side = text[text.index("protocols side by side"):]
+    assert "| default | verdict | paper | verdict |" in side and (out / "protocols.md").read_text() in text
+    rows = [line for line in side.splitlines() if line.startswith("| (")]
+    assert len(rows) == len(TABLES["ristic2014-table1"].paper)
+
+
+@pytest.mark.parametrize("paper, lo, hi, at_least, expected", [
+    (7.0, 3.0, 8.0, 0.2, "in our 95 % CI"),
+    (7.0, 3.0, 5.0, 0.1, "above our CI; 10 % of ours ≥ paper"),
+    (1.0, 3.0, 5.0, 1.0, "below our CI; 100 % of ours ≥ paper"),
+    (0.5, 0.7, 0.9, None, "below our CI"),
+    (None, 3.0, 5.0, None, "–"),
+    (7.0, None, None, None, "–"),
+])
+def test_verdict_says_where_the_paper_falls_among_ours(paper, lo, hi, at_least, expected):
+    from reciprocity.campaign.reproduce import verdict
+    assert verdict(dict(paper=paper, lo=lo, hi=hi, at_least=at_least)) == expected
+
+
 @pytest.mark.parametrize("name, protocol", [(n, p) for n, t in TABLES.items() for p in t.protocols])
 def test_every_protocol_spec_validates_and_prints_every_paper_value(name, protocol):
     table = TABLES[name].protocol(protocol)
