@@ -26,10 +26,11 @@ import numpy as np
 
 MODES = {"known": {}, "unknown": {"map": "unknown"}}
 FIELDS = ["family", "draw", "mode", "arena", "success", "converged", "stop", "error", "n_measurements",
-          "path_length", "wall_time_s", "remesh_failures", "peak_rss_mb"]
+          "path_length", "wall_time_s", "remesh_failures", "peak_rss_mb", "surveys"]
 
 
-def run(families: list[str], draws: int, out: Path, minutes: float | None) -> None:
+def run(families: list[str], draws: int, out: Path, minutes: float | None, modes=tuple(MODES),
+        start: int = 0) -> None:
     import arenas
     from reciprocity.env import SearchEnv, rollout
     from reciprocity.scenarios import load_scenario
@@ -46,13 +47,13 @@ def run(families: list[str], draws: int, out: Path, minutes: float | None) -> No
         w = csv.DictWriter(f, FIELDS)
         if new:
             w.writeheader()
-        for i in range(draws):
+        for i in range(start, start + draws):
             for fam in families:
                 if t_end is not None and time.monotonic() > t_end:
                     return
                 scenario = load_scenario(arenas.generate(fam, i))
                 for mode, world in MODES.items():
-                    if (fam, i, mode) in done:
+                    if (fam, i, mode) in done or mode not in modes:
                         continue
                     env = SearchEnv(scenario, world=dict(world))
                     t0 = time.perf_counter()
@@ -62,7 +63,7 @@ def run(families: list[str], draws: int, out: Path, minutes: float | None) -> No
                                     error=None if s["error"] is None else round(s["error"], 3),
                                     n_measurements=s["n_measurements"], path_length=round(s["path_length"], 1),
                                     wall_time_s=round(time.perf_counter() - t0, 2),
-                                    remesh_failures=s.get("remesh_failures", ""),
+                                    remesh_failures=s.get("remesh_failures", ""), surveys=s.get("surveys", ""),
                                     peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024))
                     f.flush()
 
@@ -72,20 +73,31 @@ def _q(values, q: float) -> str:
     return "–" if v.size == 0 else f"{np.quantile(v, q):.3g}"
 
 
-def table(path: Path) -> str:
-    with path.open() as f:
-        rows = list(csv.DictReader(f))
+def _wilson(k: int, n: int) -> str:
+    z = 1.959964
+    p = k / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return f"[{100 * max(centre - half, 0):.0f}, {100 * min(centre + half, 1):.0f}]"
+
+
+def table(paths) -> str:
+    rows = []
+    for path in ([paths] if isinstance(paths, Path) else paths):
+        with Path(path).open() as f:
+            rows += list(csv.DictReader(f))
     for r in rows:
         r["success"] = r["success"] == "True"
         r["error"] = float(r["error"]) if r["error"] not in ("", "None") else None
         for k in ("n_measurements", "path_length", "wall_time_s"):
             r[k] = float(r[k])
+        r["surveys"] = float(r.get("surveys") or 0)
     lines = [f"{len(rows)} episodes: {len({(r['family'], r['draw']) for r in rows})} (arena, source, start) "
-             "draws, point observer, `reciprocity` at its defaults; peak RSS of the one process "
+             "draws, point observer, `reciprocity` at its defaults; peak RSS of a benchmark process "
              f"{max(int(r['peak_rss_mb']) for r in rows)} MB.", "",
-             "| family | map | episodes | success | error median / p95 (cm) | readings median / p90 "
-             "| path median (cm) | s / episode | re-mesh failures |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "| family | map | episodes | success [95 %] | error median / p95 (cm) | readings median / p90 "
+             "| surveys median | path median (cm) | s / episode | re-mesh failures |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     fams = list(dict.fromkeys(r["family"] for r in rows)) + ["all"]
     for fam in fams:
         for mode in MODES:
@@ -93,12 +105,23 @@ def table(path: Path) -> str:
             if not sel:
                 continue
             fails = sum(int(r["remesh_failures"] or 0) for r in sel) if mode == "unknown" else "–"
+            k = sum(r["success"] for r in sel)
             lines.append(
-                f"| {fam} | {mode} | {len(sel)} | {100 * np.mean([r['success'] for r in sel]):.0f} % "
+                f"| {fam} | {mode} | {len(sel)} | {100 * k / len(sel):.0f} % {_wilson(k, len(sel))} "
                 f"| {_q([r['error'] for r in sel], 0.5)} / {_q([r['error'] for r in sel], 0.95)} "
                 f"| {_q([r['n_measurements'] for r in sel], 0.5)} / {_q([r['n_measurements'] for r in sel], 0.9)} "
+                f"| {_q([r['surveys'] for r in sel], 0.5) if mode == 'unknown' else '–'} "
                 f"| {_q([r['path_length'] for r in sel], 0.5)} | {np.mean([r['wall_time_s'] for r in sel]):.1f} "
                 f"| {fails} |")
+    known = {(r["family"], r["draw"]): r for r in rows if r["mode"] == "known"}
+    pairs = [(known[(r["family"], r["draw"])], r) for r in rows
+             if r["mode"] == "unknown" and (r["family"], r["draw"]) in known]
+    if pairs:
+        a = np.array([p[0]["n_measurements"] for p in pairs])
+        b = np.array([p[1]["n_measurements"] for p in pairs])
+        lines += ["", f"Map unknown against map known, {len(pairs)} paired draws: readings median "
+                      f"{np.median(b):.3g} against {np.median(a):.3g} ({np.median(b) / np.median(a):.2f}x), "
+                      f"mean {b.mean():.3g} against {a.mean():.3g} ({b.mean() / a.mean():.2f}x)."]
     return "\n".join(lines)
 
 
@@ -109,12 +132,17 @@ def main(argv=None) -> int:
     p.add_argument("--draws", type=int, default=10, help="draws per family")
     p.add_argument("--minutes", type=float, help="start no new draw after this many minutes")
     p.add_argument("--out", type=Path, default=Path("unseen_arenas_runs.csv"))
-    p.add_argument("--table", type=Path, help="print the table of a runs CSV instead")
+    p.add_argument("--modes", default="known,unknown", help="comma-separated: known, unknown")
+    p.add_argument("--start", type=int, default=0, help="first draw")
+    p.add_argument("--table", type=Path, nargs="+", help="print the table of runs CSV(s) instead")
     args = p.parse_args(argv)
     if args.table:
         print(table(args.table))
         return 0
-    run(args.families, args.draws, args.out, args.minutes)
+    modes = tuple(m for m in args.modes.split(",") if m)
+    if not modes or set(modes) - set(MODES):
+        p.error(f"--modes takes known and/or unknown; got {args.modes!r}")
+    run(args.families, args.draws, args.out, args.minutes, modes, args.start)
     print(table(args.out))
     return 0
 

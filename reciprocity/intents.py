@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Intent", "Measure", "SampleGradient", "StepToward", "Move", "Stay"]
+__all__ = ["Intent", "Measure", "SampleGradient", "StepToward", "Move", "Stay", "Survey"]
 
 
 def _point(p) -> np.ndarray:
@@ -63,3 +63,10 @@ class Move(Intent):
 @dataclass(frozen=True)
 class Stay(Intent):
     """Stay at `point` (where the observer is) for one time step and read."""
+
+
+@dataclass(frozen=True)
+class Survey(Intent):
+    """Go to `point` (by any free route) and scan the walls there with the range sensor,
+    taking no reading: the observations are scans only (kind ``"scan"``). Only a platform
+    with a range sensor takes it; a strategy on an unknown map explores with it."""

@@ -49,6 +49,9 @@ class Task:
     reachable : callable or None
         ``reachable(points) -> bool mask``: where the (first) platform can go, computed
         from the believed map; None where every point of the space can be reached.
+    intents : tuple of str
+        The intents the platform takes, by name (``"measure"``, ``"survey"``, ...: the
+        lower-case class names of :mod:`reciprocity.intents`); empty when not told.
     """
 
     world: str
@@ -60,6 +63,7 @@ class Task:
     starts: np.ndarray
     max_steps: int | None = None
     reachable: Callable | None = None
+    intents: tuple = ()
 
     def __post_init__(self):
         for name in ("world_nominal", "platform_nominal", "limits"):
@@ -67,6 +71,7 @@ class Task:
         starts = np.array(self.starts, dtype=float)
         starts.setflags(write=False)
         object.__setattr__(self, "starts", starts)
+        object.__setattr__(self, "intents", tuple(str(i) for i in self.intents))
 
     def __reduce__(self):
         # A task crosses process boundaries (subprocess vector environments send reset
@@ -76,7 +81,7 @@ class Task:
         reachable = None if self.reachable is None else RemoteReachable()
         return (type(self), (self.world, self.scenario, dict(self.world_nominal), self.platform,
                              dict(self.platform_nominal), dict(self.limits), np.array(self.starts),
-                             self.max_steps, reachable))
+                             self.max_steps, reachable, self.intents))
 
     def __copy__(self) -> "Task":
         return self                                  # immutable: a copy in this process is itself

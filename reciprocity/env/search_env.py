@@ -140,7 +140,7 @@ class SearchEnv:
         task = Task(world=world.kind, scenario=sc.name, world_nominal=world_nominal,
                     platform=self.platform_name, platform_nominal=plats[0].nominal(),
                     limits=_limits(plats[0]), starts=np.array([p.pose.copy() for p in plats]),
-                    max_steps=self.max_steps, reachable=plats[0].reachable)
+                    max_steps=self.max_steps, reachable=plats[0].reachable, intents=plats[0].takes())
         return [], {"task": task, "agent_seed": seeds.agent}
 
     def step(self, action) -> tuple[list[Percept], float, bool, bool, dict]:

@@ -200,8 +200,10 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
     switches = f"pq30a{_AREA_PER_H2 * h * h:.10g}"
     try:
         mesh = _triangulate(_pslg(arena, h, arena.free_region), switches, budget)
+        _refuse_degenerate(mesh, h)
     except MeshError:
         mesh = _triangulate(_pslg(arena, h, _without_spikes(arena.free_region)), switches, budget)
+        _refuse_degenerate(mesh, h)
     corners = reentrant_corners(arena)
     if grading and len(corners):
         radius = grading_radius or 8.0 * h
@@ -220,11 +222,26 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
                 break
             mesh["triangle_max_area"] = area
             try:
-                mesh = _triangulate(mesh, "rpq30a", budget)
+                graded = _triangulate(mesh, "rpq30a", budget)
+                _refuse_degenerate(graded, h)
             except MeshError:
                 break                   # the mesh of the last pass, less graded
+            mesh = graded
     p, t = mesh["vertices"], mesh["triangles"]
     return skfem.MeshTri(np.ascontiguousarray(p.T), np.ascontiguousarray(t.T))
+
+
+#: Smallest triangle area kept, as a share of ``h^2``: below it a triangle is degenerate
+#: (a sliver of a spike in a believed map: its Jacobian divides by zero).
+MIN_TRIANGLE_SHARE = 1e-9
+
+
+def _refuse_degenerate(mesh: dict, h: float) -> None:
+    """Raise MeshError when `mesh` (Triangle's output) holds a triangle of (nearly) zero area."""
+    area = triangle_areas(mesh["vertices"], mesh["triangles"])
+    if area.size and float(area.min()) <= MIN_TRIANGLE_SHARE * h * h:
+        raise MeshError(f"the mesh has {int(np.sum(area <= MIN_TRIANGLE_SHARE * h * h))} degenerate "
+                        "triangle(s) (zero area): the free region has a sliver Triangle cannot resolve")
 
 
 #: Bumped whenever :func:`mesh_free_region` would produce a different mesh.

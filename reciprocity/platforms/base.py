@@ -70,6 +70,12 @@ class Platform(ABC):
         :meth:`reset`."""
         return {}
 
+    def takes(self) -> tuple[str, ...]:
+        """The names of the intents this platform takes as configured (the task tells
+        them to the agent): its :attr:`intents`, less a ``survey`` without a range sensor."""
+        names = tuple(t.__name__.lower() for t in self.intents)
+        return tuple(n for n in names if n != "survey" or getattr(self, "lidar", None) is not None)
+
     def step_log(self) -> dict:
         """Platform-specific records of the last intent for the episode trace."""
         return {}

@@ -30,7 +30,7 @@ from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank, optimal
 from hjplanner.limits import check_grid
 
 from ..errors import SearchError, UnreachableTarget
-from ..intents import Intent, Measure, SampleGradient, StepToward
+from ..intents import Intent, Measure, SampleGradient, StepToward, Survey
 from ..observations import Observation
 from ..spaces.occupancy import OccupancyGrid
 from ..validation import Bound, check_bounds
@@ -152,7 +152,7 @@ class CarPlatform(Platform):
     """
 
     name = "car"
-    intents = (Measure, SampleGradient, StepToward)
+    intents = (Measure, SampleGradient, StepToward, Survey)
     #: The car reads the world through its own sensor: the noise of its readings is the
     #: calibration's (:meth:`nominal`), not the world's point-reading ``noise``.
     restates = ("noise",)
@@ -213,7 +213,12 @@ class CarPlatform(Platform):
         self._log = self._new_log()
         kind = "gradient" if isinstance(intent, SampleGradient) else "signal"
         try:
-            if isinstance(intent, SampleGradient):
+            if isinstance(intent, Survey):
+                if self.lidar is None:
+                    raise SearchError("a Survey needs a range sensor: this car has no lidar")
+                self._drive_to(intent.point)
+                measured = []
+            elif isinstance(intent, SampleGradient):
                 measured = self._manoeuvre(2)
             elif isinstance(intent, StepToward):
                 self._bang_bang(intent.point)

@@ -10,7 +10,7 @@ from scipy.sparse.csgraph import dijkstra
 from scipy.spatial import cKDTree
 
 from ..errors import SearchError, UnreachableTarget
-from ..intents import Intent, Measure, Move, SampleGradient, Stay, StepToward
+from ..intents import Intent, Measure, Move, SampleGradient, Stay, StepToward, Survey
 from ..observations import Observation
 from ..worlds.base import World
 from .base import Platform
@@ -58,7 +58,7 @@ class PointPlatform(Platform):
     """
 
     name = "point"
-    intents = (Measure, SampleGradient, StepToward, Move, Stay)
+    intents = (Measure, SampleGradient, StepToward, Move, Stay, Survey)
 
     def __init__(self, space, dwell: float = 1.0, lidar: Lidar | None = None):
         super().__init__()
@@ -132,6 +132,11 @@ class PointPlatform(Platform):
                 out.append(self._read("gradient"))
                 scans += [self._scan()] if self.lidar is not None else []
             return out + scans
+        if isinstance(intent, Survey):
+            if self.lidar is None:
+                raise SearchError("a Survey needs a range sensor: this point observer has no lidar")
+            self._go(intent.point)
+            return [self._scan()]
         if not isinstance(intent, Stay):
             self._go(intent.point)
         out.append(self._read("signal"))

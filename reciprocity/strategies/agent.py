@@ -57,7 +57,7 @@ class StrategyAgent:
         self.strategy = strategy
         self.messages = MessageLog()
         strategy.start(SearchContext(task.world, task.nominal, np.array(task.starts),
-                                     np.random.default_rng(seed), self.messages))
+                                     np.random.default_rng(seed), self.messages, tuple(task.intents)))
         if task.reachable is not None:
             for _ in range(task.n_agents):
                 strategy.restrict(task.reachable)

@@ -40,6 +40,9 @@ class SearchContext:
         The strategy's own random generator.
     messages : MessageLog
         Where multi-observer strategies record what they share.
+    intents : tuple of str
+        The intents the platform takes, by name (the task's ``intents``); empty when not
+        told, and then a strategy asks only for what every platform of its world takes.
     """
 
     world: str
@@ -47,6 +50,7 @@ class SearchContext:
     starts: np.ndarray
     rng: np.random.Generator
     messages: MessageLog = field(default_factory=MessageLog)
+    intents: tuple = ()
 
     @property
     def n_agents(self) -> int:

@@ -17,7 +17,9 @@ built from the platform's range scans and answers the strategy's three questions
   seen-free space (:meth:`MapKeeper.admissible`); when most of the belief lies in unseen
   space, the frontier point (a seen-free point next to unseen space) with the most
   belief mass within reach, discounted by the path to it (:meth:`MapKeeper.frontier_point`):
-  a reading there tells about the source, and the scan there about the map.
+  the reciprocity strategy surveys it (:class:`~reciprocity.intents.Survey`: the scan
+  there tells about the map, with no reading) where the platform takes surveys, and reads
+  there otherwise.
 """
 
 from __future__ import annotations

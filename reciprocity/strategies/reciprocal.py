@@ -10,7 +10,7 @@ from ..errors import MeshError, SearchError
 from ..fem.discretisation import discretisation_error
 from ..fem.green import GreenSolver
 from ..imaging import COMBINATIONS, ImagingMap
-from ..intents import Measure
+from ..intents import Measure, Survey
 from ..outcome import MAX_SOURCES, StopReason
 from ..spaces import MeshSpace, mesh_space
 from ..models.green import cached_solver
@@ -117,6 +117,8 @@ UNREACH_MIN_READINGS = 2
 PATH_SLACK = 2.0
 #: Default ``max_steps``: readings of a search for one source, and for several.
 MAX_STEPS = 30
+#: Most surveys of a search, as a multiple of its `max_steps`.
+SURVEY_CAP = 3
 #: The error terms relative to the predicted reading, added in quadrature into the
 #: likelihood's ``model_error`` (see :meth:`ReciprocityStrategy._error_terms`).
 RELATIVE_TERMS = ("fixed", "discretisation", "platform", "strength")
@@ -132,8 +134,8 @@ class ReciprocityStrategy(Strategy):
 
     At each observation point ``z_k`` the reading ``I_k`` and the adjoint field
     ``v_k = c G(·, z_k)`` add the map ``p_k`` (eq. 7) to the imaging function ``P_M``
-    (steps 9-11). The search stops when the region ``{P_M >= eps}`` has area below
-    `area_tol` (step 12) and, unless ``extent_tol = inf``, also lies within `extent_tol`
+    (steps 9-11). The search stops when the region ``{P_M >= eps}`` is not empty and has
+    area below `area_tol` (step 12) and, unless ``extent_tol = inf``, also lies within `extent_tol`
     of the estimate, and, unless ``tail_tol = inf``, every node with ``P_M >=
     TAIL_EPS`` lies within `tail_tol` of it (no second mode is left, even an unlikely
     one), and, unless ``credible_radius = inf``, the belief holds at least
@@ -290,6 +292,12 @@ class ReciprocityStrategy(Strategy):
         Relative standard deviation of the stated strength (0: exactly known), added in
         quadrature to `model_error`: a world stronger or weaker than stated moves every
         reading by that fraction.
+    survey : bool
+        On an unknown map, explore by :class:`~reciprocity.intents.Survey` (go to the
+        frontier point and scan, taking no reading) where the platform takes it, instead
+        of reading at every frontier point: a reading far from the belief carries little
+        about the source, while the scan there is what the search lacks (the episode's
+        ``surveys`` counts them; at most SURVEY_CAP times `max_steps`).
     h : float
         Mesh size (cm) of the solver built by :meth:`start` when none is given.
     solver : GreenSolver, optional
@@ -339,7 +347,7 @@ class ReciprocityStrategy(Strategy):
                  h: float = 1.0, solver: GreenSolver | None = None, max_sources: int | None = None,
                  more_tol: float = MORE_TOL, survey_travel: float | None = None,
                  survey_reach: float | str = "reach", model_error: float | str = "estimate",
-                 strength_error: float = 0.0):
+                 strength_error: float = 0.0, survey: bool = True):
         super().__init__()
         if preset is not None and preset not in PRESETS:
             raise SearchError(f"preset must be one of {tuple(PRESETS)} or None; got {preset!r}")
@@ -417,6 +425,9 @@ class ReciprocityStrategy(Strategy):
                 or not 0 <= strength_error < 1:
             raise SearchError(f"strength_error must be a fraction in [0, 1); got {strength_error!r}")
         self.strength_error = float(strength_error)
+        if not isinstance(survey, bool):
+            raise SearchError(f"survey must be true or false; got {survey!r}")
+        self.survey = survey
         self.strength, self.h, self.solver = strength, float(h), solver
         self.strength_range = strength_range
 
@@ -431,7 +442,7 @@ class ReciprocityStrategy(Strategy):
                     else list(self.strength_range),
                     max_sources=getattr(self, "sources_bound", self.max_sources), more_tol=self.more_tol,
                     survey_travel=self.survey_travel, survey_reach=self.survey_reach,
-                    model_error=self.model_error, strength_error=self.strength_error,
+                    model_error=self.model_error, strength_error=self.strength_error, survey=self.survey,
                     model_error_used=getattr(self, "_model_error", None),
                     h=self.h if self.solver is None else self.solver.h)
 
@@ -476,7 +487,7 @@ class ReciprocityStrategy(Strategy):
         arena, pose = ctx.arena, ctx.start
         self.mapping = MapKeeper.from_nominal(ctx.nominal)            # map: unknown (issue 23)
         if self.mapping is not None:
-            self.notes.update(remesh_failures=0)
+            self.notes.update(remesh_failures=0, surveys=0)
         geometry = arena.without_scenario() if self.mapping is None else self.mapping.arena
         if self.solver is None or self.solver.arena.without_scenario() is not geometry:
             self.solver = cached_solver(geometry, self.h)
@@ -498,6 +509,10 @@ class ReciprocityStrategy(Strategy):
         self.rng = ctx.rng
         self._reachable = self.space.reachable_from(pose[:2], self.clearance)
         self._next = np.asarray(pose[:2], dtype=float)
+        self._here = self._next.copy()
+        self.n_surveys, self._survey_next = 0, False
+        self._can_survey = self.survey and "survey" in ctx.intents
+        self._no_survey = np.zeros(0, dtype=bool)
         self._node_area = self.space.cell_areas
         self._far, self._far_count = np.ones(len(self.space.points), dtype=bool), 0
         self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
@@ -595,13 +610,32 @@ class ReciprocityStrategy(Strategy):
         self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
             if self.rule == "info" else None
 
-    def propose(self) -> Measure | None:
+    def propose(self) -> Measure | Survey | None:
         if self.done:
             return None
-        return Measure(self._next.copy())
+        return (Survey if self._survey_next else Measure)(self._next.copy())
+
+    def _surveyed(self, observations, intent) -> None:
+        """After a :class:`~reciprocity.intents.Survey`: take in its scans, re-mesh when the
+        believed walls changed, and choose the next point (no reading, no step of the
+        search). A survey that showed nothing new rules its neighbourhood out of later
+        surveys."""
+        self.n_surveys += 1
+        self.notes["surveys"] = self.n_surveys
+        self._here = np.asarray(observations[0].position if observations else intent.point, dtype=float)
+        if self.mapping.update(observations):
+            self._remesh(self._here)
+        elif len(self._no_survey) == len(self.space.points):
+            self._no_survey |= self.space.around(self._here, self.mapping.lidar["range"] / 2.0)
+        self._choose_next()
+        self.status.extra["next"] = None if self.done else self._next.tolist()
 
     def observe(self, observations, intent, agent: int = 0) -> None:
+        if isinstance(intent, Survey):
+            self._surveyed(observations, intent)
+            return
         obs = observations[0]
+        self._here = np.asarray(obs.position, dtype=float)
         if self.mapping is not None and self.mapping.update(observations):
             self._remesh(obs.position)
         self.n_measurements += 1
@@ -616,7 +650,9 @@ class ReciprocityStrategy(Strategy):
         region = self.imaging.nodes[self.region()]
         extent = float(np.hypot(*(region - estimate).T).max()) if len(region) else 0.0
         self.status.extra["region_extent"] = extent
-        converged = area < self.area_tol and extent <= self.extent_tol and self._tail_within(estimate, self.imaging)
+        # an empty region (eq. (8)'s mean below eps everywhere) is not a found source
+        converged = len(region) > 0 and area < self.area_tol and extent <= self.extent_tol \
+            and self._tail_within(estimate, self.imaging)
         if self.book is not None:
             self._observe_several(converged, estimate)
         elif converged:
@@ -668,7 +704,8 @@ class ReciprocityStrategy(Strategy):
         estimate = im.estimate()
         region = im.nodes[im.values() >= self.eps]
         extent = float(np.hypot(*(region - estimate).T).max()) if len(region) else 0.0
-        return im.area(self.eps) < self.area_tol and extent <= self.extent_tol and self._tail_within(estimate, im)
+        return len(region) > 0 and im.area(self.eps) < self.area_tol and extent <= self.extent_tol \
+            and self._tail_within(estimate, im)
 
     def _tail_within(self, estimate: np.ndarray, im: ImagingMap) -> bool:
         """Whether the belief of `im` holds at least `credible_mass` within `credible_radius`
@@ -731,7 +768,7 @@ class ReciprocityStrategy(Strategy):
             return
         near = self._near_reachable()
         region = self.region()
-        if not (region & near).any():
+        if region.any() and not (region & near).any():     # an empty region tells nothing
             self.stop(StopReason.UNREACHABLE, "the whole region of possible sources "
                                               f"({region.sum()} nodes) lies out of reach")
             return
@@ -802,12 +839,19 @@ class ReciprocityStrategy(Strategy):
         """Step 13: the next observation point (cm), or None if none is admissible."""
         im, cand = self.imaging, self.space
         allowed = self._reachable & self._separated()
+        self._survey_next = False
         if self.mapping is not None:
             allowed = allowed & self.mapping.admissible(cand.points)
-            nxt = self.mapping.frontier_point(cand, self.imaging.weights(), allowed, im.points[-1],
+            survey = self._can_survey and self.n_surveys < SURVEY_CAP * self.max_steps
+            if survey and len(self._no_survey) != len(cand.points):
+                self._no_survey = np.zeros(len(cand.points), dtype=bool)
+            here = self._here if survey else im.points[-1]
+            nxt = self.mapping.frontier_point(cand, self.imaging.weights(),
+                                              allowed & ~self._no_survey if survey else allowed, here,
                                               lambda y: mass_within_reach(y, cand.points, self.imaging.weights(),
                                                                           self.reach))
             if nxt is not None:
+                self._survey_next = survey
                 return nxt
         book = getattr(self, "book", None)
         if book is not None and book.surveying:

@@ -229,3 +229,14 @@ def test_the_credible_rule_holds_a_search_whose_belief_has_a_near_second_mode():
     assert loose._tail_within(est, im) and not s._tail_within(est, im)
     im = belief(0.0)
     assert s._tail_within(im.estimate(), im)
+
+
+def test_an_empty_region_is_not_a_found_source(empty):
+    """Eq. (8)'s mean after one reading far below every prediction (noise can make a
+    reading negative) is below eps everywhere: the region is empty, its area 0 < A_eps,
+    and the search must go on rather than stop (it stopped 92-99 cm off before)."""
+    arena, solver = empty
+    s = started(solver, arena, preset="paper", start=(70.0, 70.0))
+    s.observe([Observation(np.array([70.0, 70.0]), -200.0)], None)
+    assert s.imaging.values().max() < s.eps and s.imaging.area(s.eps) == 0.0
+    assert not s.done

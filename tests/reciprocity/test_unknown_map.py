@@ -11,7 +11,7 @@ from reciprocity.beliefs.occupancy import OccupancyGrid
 from reciprocity.cli import main
 from reciprocity.env import SearchEnv, rollout
 from reciprocity.errors import SearchError
-from reciprocity.intents import Measure
+from reciprocity.intents import Measure, Survey
 from reciprocity.observations import readings_of
 from reciprocity.platforms.lidar import LIDAR_DEFAULTS, Lidar, ray_ranges, wall_segments
 from reciprocity.strategies import STRATEGIES
@@ -104,6 +104,36 @@ def test_the_point_observer_scans_after_its_reading_and_only_with_a_lidar():
     plain = SearchEnv("paper")
     plain.reset(seed=0)
     assert [o.kind for o in plain.step(Measure(np.array([128.0, 20.0])))[0][0].observations] == ["signal"]
+
+
+def test_a_survey_moves_and_scans_without_a_reading_and_only_with_a_lidar():
+    env = SearchEnv("paper", world={"map": "unknown", "lidar": {"beams": 8}})
+    _, info = env.reset(seed=0)
+    assert "survey" in info["task"].intents and "measure" in info["task"].intents
+    percept = env.step(Survey(np.array([128.0, 20.0])))[0][0]
+    assert [o.kind for o in percept.observations] == ["scan"]
+    assert np.allclose(percept.observations[0].position, [128.0, 20.0])
+    plain = SearchEnv("paper")
+    _, info = plain.reset(seed=0)
+    assert "survey" not in info["task"].intents
+    with pytest.raises(SearchError, match="range sensor"):
+        plain.step(Survey(np.array([128.0, 20.0])))
+
+
+def test_on_an_unknown_map_the_search_explores_by_surveys_that_are_no_readings():
+    """Surveys (scan, no reading) carry the search round the spiral: fewer readings than
+    reading at every frontier point, each survey a round of its own, never a reading."""
+    from reciprocity.scenarios import load_scenario
+    scenario = load_scenario(arenas.generate("spiral", 0))
+    runs = {}
+    for survey in (True, False):
+        env = SearchEnv(scenario, world={"map": "unknown"})
+        agent = StrategyAgent(STRATEGIES["reciprocity"], {"survey": survey, "h": 2.0})
+        runs[survey] = rollout(env, agent, seed=0).summary
+    on, off = runs[True], runs[False]
+    assert on["surveys"] > 0 and off["surveys"] == 0
+    assert on["steps"] == on["n_measurements"] + on["surveys"]
+    assert on["converged"] and on["n_measurements"] < off["n_measurements"]
 
 
 def test_the_signal_readings_do_not_change_when_a_lidar_is_added():
@@ -219,7 +249,7 @@ def test_the_frontier_point_serves_mass_behind_unseen_space_and_only_then():
 def test_the_model_error_narrows_as_the_map_is_seen():
     keeper = _keeper_after_one_scan()
     wide = keeper.model_error()
-    assert 0.05 < wide < 0.35 and keeper.model_error(0.5) == 0.5
+    assert 0.05 < wide < 0.35 and keeper.model_error(0.5) == pytest.approx(np.hypot(0.5, wide))   # in quadrature
     square = arenas.Arena.from_polygons(SQUARE)
     from reciprocity.observations import Observation
     for p in [(50.0, 50.0), (80.0, 20.0), (80.0, 80.0), (20.0, 80.0), (20.0, 20.0)]:
