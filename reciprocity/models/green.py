@@ -17,8 +17,11 @@ __all__ = ["cached_solver"]
 
 
 #: Bytes of strategy solvers (mesh, basis, factorization) kept per process: a worker running many
-#: arenas keeps the most recent within it (issue 33).
-SOLVER_CACHE_BYTES = 400 * 2**20
+#: arenas keeps the most recent within it (issue 33). Counted by :func:`arenas.memo.nbytes_of`
+#: (arrays and factorizations), about 3/4 of what a solver holds resident. The caches of
+#: the truth's solvers, of search spaces and of lattice Green's functions have their own; with
+#: all four full a worker held 1.05 GB resident on generated arenas at the earlier budgets.
+SOLVER_CACHE_BYTES = 250 * 2**20
 
 
 @sized_cache(SOLVER_CACHE_BYTES, maxsize=8)

@@ -198,7 +198,7 @@ class MeshSpace(SearchSpace):
 
 
 #: Bytes of search spaces kept per process.
-SPACE_CACHE_BYTES = 200 * 2**20
+SPACE_CACHE_BYTES = 120 * 2**20
 
 
 @sized_cache(SPACE_CACHE_BYTES, maxsize=16)

@@ -21,7 +21,7 @@ from ..beliefs.base import expected_entropy as _expected_entropy
 from ..fem.green import GreenSolver
 
 __all__ = ["lattice_nodes", "LatticeGreens", "lattice_greens", "expected_entropy",
-           "systematic_support"]
+           "mutual_information", "systematic_support"]
 
 
 def lattice_nodes(points: np.ndarray, spacing: float) -> np.ndarray:

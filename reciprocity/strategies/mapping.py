@@ -37,7 +37,7 @@ from ..imaging import ImagingMap
 from ..observations import Observation, scans_of
 
 __all__ = ["MapKeeper", "ShortfallImaging", "UNSEEN_MODEL_ERROR", "MAPPED_MODEL_ERROR", "UNSEEN_SHORTFALL",
-           "FRONTIER_SHARE", "FRONTIER_DISCOUNT"]
+           "FRONTIER_SHARE", "SURVEY_SHARE", "FRONTIER_DISCOUNT"]
 
 #: Relative model error added per unit share of the arena not yet seen (the whole arena
 #: unseen: 0.3, a reading may be 30 % off the model's prediction).
@@ -51,6 +51,12 @@ MAPPED_MODEL_ERROR = 0.05
 UNSEEN_SHORTFALL = 0.0
 #: Explore (go to the frontier) when at least this share of the belief lies in unseen space.
 FRONTIER_SHARE = 0.5
+#: The same when the frontier is surveyed (scanned without a reading). Measured on generated
+#: arenas, map unknown: 0.25 rescued 4 of the 9 draws of 300 that spent their 30 readings in
+#: seen space (spirals and a ring; 6-13 readings instead), but on 30 draws that succeeded
+#: either way it cost 0.9 readings (mean 12.3 against 11.4) and 300 cm of path (median 1136
+#: against 826 cm). Kept at FRONTIER_SHARE.
+SURVEY_SHARE = FRONTIER_SHARE
 #: Path length (cm) over which a frontier point's score falls by a factor e.
 FRONTIER_DISCOUNT = 100.0
 
@@ -138,9 +144,10 @@ class MapKeeper:
         return 0.0 if total <= 0 else float(w[~self.grid.seen_at(points)].sum() / total)
 
     def frontier_point(self, space, weights: np.ndarray, allowed: np.ndarray, here,
-                       mass_near: Callable[[np.ndarray], np.ndarray]) -> np.ndarray | None:
+                       mass_near: Callable[[np.ndarray], np.ndarray],
+                       share: float = FRONTIER_SHARE) -> np.ndarray | None:
         """The frontier point to explore, or None when the belief lies mostly in seen
-        space (less than FRONTIER_SHARE unseen) or no frontier point is allowed.
+        space (less than `share` unseen) or no frontier point is allowed.
 
         Parameters
         ----------
@@ -155,6 +162,10 @@ class MapKeeper:
         mass_near : callable
             ``mass_near(points (m, 2)) -> (m,)``: the belief mass within sensing reach of
             each point.
+        share : float
+            Explore only while at least this share of the belief is unseen
+            (FRONTIER_SHARE when the frontier point is read at, SURVEY_SHARE when it is
+            surveyed).
 
         Returns
         -------
@@ -163,7 +174,7 @@ class MapKeeper:
             allowed nodes within a cell of the frontier, ``path`` along the believed mesh.
         """
         pts = space.points
-        if self.unseen_share(pts, weights) < FRONTIER_SHARE:
+        if self.unseen_share(pts, weights) < share:
             return None
         from scipy import ndimage
         near = ndimage.binary_dilation(self.grid.frontier(), np.ones((3, 3), dtype=bool))

@@ -16,7 +16,7 @@ from ..spaces import MeshSpace, mesh_space
 from ..models.green import cached_solver
 from .base import SearchContext, Status, Strategy
 from .information import expected_entropy, lattice_greens, mutual_information, systematic_support
-from .mapping import MapKeeper
+from .mapping import FRONTIER_SHARE, SURVEY_SHARE, MapKeeper
 
 # scipy's image filters, graph routines and k-d tree are imported where they are used:
 # listing the strategies imports this module for its name and doc alone (issue 24).
@@ -76,6 +76,10 @@ MIN_NOISE = 1.0
 INFO_SPACING = 2.5
 #: Belief support points drawn per step by ``rule="info"``.
 INFO_SUPPORT = 16
+#: Score of ``rule="info"``: ``"pairs"`` (expected entropy over the support points,
+#: :func:`~reciprocity.strategies.information.expected_entropy`) or ``"mi"`` (the mutual
+#: information of a reading, :func:`~reciprocity.strategies.information.mutual_information`,
+#: linear in the support). Neither told apart on 30 generated draws (``benchmarks/likelihood_terms.md``).
 INFO_SCORE = "pairs"
 #: Relative likelihood of the tail checked by `tail_tol` (a Gaussian belief puts 99 %
 #: of its mass above it).
@@ -849,7 +853,8 @@ class ReciprocityStrategy(Strategy):
             nxt = self.mapping.frontier_point(cand, self.imaging.weights(),
                                               allowed & ~self._no_survey if survey else allowed, here,
                                               lambda y: mass_within_reach(y, cand.points, self.imaging.weights(),
-                                                                          self.reach))
+                                                                          self.reach),
+                                              share=SURVEY_SHARE if survey else FRONTIER_SHARE)
             if nxt is not None:
                 self._survey_next = survey
                 return nxt

@@ -1,5 +1,8 @@
 """Caches bounded in bytes (arenas.memo): what they keep, what they drop, what they measure."""
 
+import os
+import sys
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -64,3 +67,23 @@ def test_sized_cache_keeps_the_newest_entry_even_when_too_big_and_counts_growth(
 def test_sized_cache_refuses_an_empty_budget(bad):
     with pytest.raises(ValueError):
         sized_cache(**bad)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's malloc_trim, read through /proc")
+def test_release_memory_hands_freed_heap_back():
+    from arenas.memo import release_memory
+
+    def resident_mb():
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+    release_memory()
+    # many medium arrays (below the mmap threshold, so on the heap), every other one freed:
+    # the heap cannot shrink from its top, and holds the freed half
+    blocks = [np.ones(10_000 + i % 7) for i in range(3_000)]
+    del blocks[::2]
+    before = resident_mb()
+    release_memory()
+    after = resident_mb()
+    assert after < before - 50           # about 120 MB were freed; most of it goes back
+    assert blocks[0].sum() == 10_001     # what is still held is untouched

@@ -240,3 +240,15 @@ def test_an_empty_region_is_not_a_found_source(empty):
     s.observe([Observation(np.array([70.0, 70.0]), -200.0)], None)
     assert s.imaging.values().max() < s.eps and s.imaging.area(s.eps) == 0.0
     assert not s.done
+
+
+def test_mutual_information_of_a_reading_against_closed_forms():
+    from reciprocity.strategies.information import mutual_information
+    two = np.array([[0.0, 100.0], [0.0, 0.0]])
+    mi = mutual_information(two, np.array([0.5, 0.5]), 1.0)
+    assert mi[0] == pytest.approx(np.log(2.0), abs=1e-3) and mi[1] == pytest.approx(0.0, abs=1e-9)
+    # means drawn from N(0, a^2): the reading is N(0, 1 + a^2), I = log(1 + a^2) / 2
+    rng = np.random.default_rng(0)
+    a, k = 3.0, 20000
+    mi = mutual_information(rng.normal(0.0, a, (1, k)), np.full(k, 1.0 / k), 1.0)
+    assert mi[0] == pytest.approx(0.5 * np.log(1.0 + a * a), abs=3 * a / np.sqrt(k) + 0.01)

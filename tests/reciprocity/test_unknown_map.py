@@ -321,6 +321,8 @@ def test_the_car_on_an_unknown_map_plans_on_what_it_has_seen():
     assert any("re-planning" in e for e in events)
     scans = [o for r in episode.records for o in r.observations if o.kind == "scan"]
     assert len(scans) >= s["n_measurements"]                             # the strategy got them too
+    surveyed = [r for r in episode.records if r.intent == "survey"]
+    assert len(surveyed) == s["surveys"] and all(o.kind == "scan" for r in surveyed for o in r.observations)
 
 
 def test_a_value_function_bank_needs_a_known_map():
