@@ -193,7 +193,8 @@ class ReciprocityStrategy(Strategy):
     reused otherwise) with every reading imaged again on the new mesh; the model error
     grows with the share of the arena not yet seen; observation points lie in seen-free
     space; and while most of the belief lies in unseen space the next point is the
-    frontier point that best serves it (see :mod:`reciprocity.strategies.mapping`).
+    frontier point that best serves it (see :mod:`reciprocity.strategies.mapping`),
+    surveyed (scanned, with no reading: `survey`) where the platform takes surveys.
 
     **The paper's settings** (``preset="paper"``): ``rule="nearest"``,
     ``combine="mean"`` (eq. 8), ``sigma="noise"`` (eq. 7 with ``sigma^2`` the variance
