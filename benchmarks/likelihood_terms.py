@@ -57,19 +57,19 @@ def run(name: str, params: dict, draws: int, start: int, mode: str, world: dict,
                 f.flush()
 
 
-def _wilson(k: int, n: int, z: float = 1.959964) -> str:
-    p = k / n
-    c = (p + z * z / (2 * n)) / (1 + z * z / n)
-    h = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return f"{100 * p:.1f} % [{100 * max(c - h, 0):.0f}, {100 * min(c + h, 1):.0f}]"
+def _wilson(k: int, n: int) -> str:
+    """Wilson 95 % interval of k successes in n, in percent (scipy's)."""
+    from scipy.stats import binomtest
+    ci = binomtest(k, n).proportion_ci(method="wilson")
+    return f"[{100 * ci.low:.0f}, {100 * ci.high:.0f}]"
 
 
 def _mean_ci(x) -> str:
+    """Mean with its Student-t 95 % interval (scipy's)."""
     from scipy import stats
     x = np.asarray(x, float)
-    m = x.mean()
-    h = stats.t.ppf(0.975, len(x) - 1) * x.std(ddof=1) / np.sqrt(len(x))
-    return f"{m:.2f} [{m - h:.2f}, {m + h:.2f}]"
+    lo, hi = stats.t.interval(0.95, len(x) - 1, loc=x.mean(), scale=stats.sem(x))
+    return f"{x.mean():.2f} [{lo:.2f}, {hi:.2f}]"
 
 
 def table(specs: list[str]) -> str:
@@ -87,7 +87,7 @@ def table(specs: list[str]) -> str:
         n = np.array([int(r["n"]) for r in rows])
         path = np.array([float(r["path"]) for r in rows])
         k = sum(r["success"] == "True" for r in rows)
-        lines.append(f"| {spec} | {len(rows)} | {_wilson(k, len(rows))} | {np.median(e):.2f} / "
+        lines.append(f"| {spec} | {len(rows)} | {100 * k / len(rows):.1f} % {_wilson(k, len(rows))} | {np.median(e):.2f} / "
                      f"{np.percentile(e, 95):.2f} / {e.max():.1f} | {np.median(n):.1f} / {np.percentile(n, 90):.1f} "
                      f"| {_mean_ci(n)} | {np.median(path):.0f} |")
     return "\n".join(lines)

@@ -74,11 +74,10 @@ def _q(values, q: float) -> str:
 
 
 def _wilson(k: int, n: int) -> str:
-    z = 1.959964
-    p = k / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return f"[{100 * max(centre - half, 0):.0f}, {100 * min(centre + half, 1):.0f}]"
+    """Wilson 95 % interval of k successes in n, in percent (scipy's)."""
+    from scipy.stats import binomtest
+    ci = binomtest(k, n).proportion_ci(method="wilson")
+    return f"[{100 * ci.low:.0f}, {100 * ci.high:.0f}]"
 
 
 def table(paths) -> str:

@@ -133,6 +133,9 @@ def test_run_by_scenario_with_mismatch(tmp_path):
     assert s["stop"] in ("converged", "step cap", "no target") and "converged" in s
 
 
+#: Safety net against a hung subprocess (seconds), never an assertion: a listing takes well under one.
+HANG_S = 600
+
 README_ARENA = """\
 boundary: [[0, 0], [140, 0], [140, 140], [0, 140]]
 obstacles:
@@ -251,7 +254,7 @@ def test_a_reader_that_leaves_early_gets_no_traceback(command):
     os.close(r)                                   # the reader is already gone
     try:
         done = subprocess.run([sys.executable, "-c", f"import sys, reciprocity.cli as c; sys.exit(c.main([{command!r}]))"],
-                              stdout=w, stderr=subprocess.PIPE, text=True, timeout=600)
+                              stdout=w, stderr=subprocess.PIPE, text=True, timeout=HANG_S)
     finally:
         os.close(w)
     assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
