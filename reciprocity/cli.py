@@ -165,8 +165,9 @@ def _write_figures(out: Path, episode, strategy, platform, arena, *, video: bool
             counts = [len(r.get("estimates") or []) for r in episode.trace]
             steps = sorted({1, len(counts)} | {k + 1 for k in range(1, len(counts)) if counts[k] > counts[k - 1]}
                            | ({1 + counts.index(1)} if 1 in counts else set()))
+        reach = strategy.within_reach() if book is None else None
         fig = imaging_steps_figure(episode, strategy.imaging if book is None else book.raw, arena,
-                                   eps=strategy.eps, steps=steps)
+                                   eps=strategy.eps, steps=steps, within_reach=reach)
         files.append(out / f"{prefix}_steps.png")
     else:
         floor = platform.testbed.floor if car else None

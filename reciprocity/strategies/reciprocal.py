@@ -17,6 +17,7 @@ from ..models.green import cached_solver
 from .base import SearchContext, Status, Strategy
 from .information import expected_entropy, lattice_greens, mutual_information, systematic_support
 from .mapping import FRONTIER_SHARE, SURVEY_SHARE, MapKeeper
+from .reach import greatest_green
 
 # scipy's image filters, graph routines and k-d tree are imported where they are used:
 # listing the strategies imports this module for its name and doc alone (issue 24).
@@ -119,6 +120,15 @@ UNREACH_MIN_READINGS = 2
 #: open (``tests/reciprocity/test_spaces.py``): "within reach" allows twice `reach` along
 #: the free region, which still excludes rooms closed off by walls.
 PATH_SLACK = 2.0
+#: ... and seen from there: a possible source outside the reachable set is within reach
+#: only if its reading at some reachable point would be this many times the reading
+#: noise (``reciprocity.strategies.reach``). A source behind a slit narrower than the car
+#: reads as nothing wherever the car can go, however near it lies.
+DETECT_SNR = 3.0
+#: Once the belief puts more than this mass out of reach (from the second reading on),
+#: rules ``"axis"`` and ``"reach"`` read where most of the belief within reach lies, to
+#: find the source there or rule it out (the ``unreachable`` stop then comes sooner).
+TEST_REACH_ABOVE = 0.5
 #: Default ``max_steps``: readings of a search for one source, and for several.
 MAX_STEPS = 30
 #: Most surveys of a search, as a multiple of its `max_steps`.
@@ -176,9 +186,15 @@ class ReciprocityStrategy(Strategy):
     measure at is reachable, when the whole region of possible sources lies farther than
     `reach` (sensing reach; a source in a room closed off by walls is never within it)
     from every reachable point, or, from the second reading on, when the belief holds
-    less than UNREACH_MASS within `reach` of the reachable points (a source behind a gap
-    narrower than the car: the region stays wide, because readings through the gap are
-    weak, but the readings the car can take rule out every source it could reach). When
+    less than UNREACH_MASS within reach (a source behind a gap narrower than the car:
+    the region stays wide, because readings through the gap are weak, but the readings
+    the car can take rule out every source it could reach). Within reach means within
+    `reach` of a reachable point and seen from one: a reading on the reachable part's edge
+    would be at least DETECT_SNR times the noise (:meth:`within_reach`,
+    :mod:`reciprocity.strategies.reach`). Once more than TEST_REACH_ABOVE of the belief
+    lies out of reach, rules ``"axis"`` and ``"reach"`` read where most of the belief
+    within reach lies, to find the source there or rule it out. The summary keys
+    ``mass_out_of_reach`` and ``reachable_area`` (cm²) say where the search stood. When
     the belief has two or more separate modes in ``{P_M >= eps}`` (each holding at least
     MODE_MASS of it), a search that reaches `max_steps` says how many and how far apart
     the two largest are, and the ``"info"`` rule, when no admissible point is expected to
@@ -777,13 +793,23 @@ class ReciprocityStrategy(Strategy):
             self.stop(StopReason.UNREACHABLE, "the whole region of possible sources "
                                               f"({region.sum()} nodes) lies out of reach")
             return
-        if self.imaging.n >= UNREACH_MIN_READINGS:
+        if self.imaging.n:
             w = self.imaging.weights()
             within = float(w[near].sum() / w.sum())
-            if within < UNREACH_MASS:
+            self.notes.update(mass_out_of_reach=round(1.0 - within, 4),
+                              reachable_area=round(float(self._node_area[self._reachable].sum()), 1))
+            if self.imaging.n >= UNREACH_MIN_READINGS and within < UNREACH_MASS:
                 self.stop(StopReason.UNREACHABLE, f"the source lies out of reach with probability "
                                                   f"{1.0 - within:.3f} (belief mass within {self.reach:g} cm "
-                                                  f"of a reachable point: {within:.3f})")
+                                                  f"of a reachable point and seen from it: {within:.3f}; "
+                                                  f"reachable part {self.notes['reachable_area']:.0f} cm²)")
+
+    def within_reach(self) -> np.ndarray:
+        """Mask of the nodes within reach: the reachable part and the possible sources a
+        reading there would see (within `reach` cm and above DETECT_SNR times the noise;
+        :mod:`reciprocity.strategies.reach`). The rest is what an ``unreachable`` stop
+        judges out of reach; the nodes are those of ``imaging``."""
+        return self._near_reachable().copy()
 
     def _unseen(self) -> np.ndarray | None:
         """With an unknown map, the nodes its range sensor has not seen yet; else None."""
@@ -802,7 +828,7 @@ class ReciprocityStrategy(Strategy):
         return self._support
 
     def _near_reachable(self) -> np.ndarray:
-        key = self._reachable.tobytes()
+        key = (id(self.space), self._reachable.tobytes())
         if getattr(self, "_near_key", None) != key:
             # within reach in a straight line, and along the free region (mesh edges, at
             # most PATH_SLACK times longer than the straight line in the open): a source
@@ -812,7 +838,14 @@ class ReciprocityStrategy(Strategy):
             dist = cKDTree(pts[self._reachable]).query(pts, distance_upper_bound=self.reach)[0]
             path = self.space.within_path(self._reachable, PATH_SLACK * self.reach)
             self._near, self._near_key = np.isfinite(dist) & path, key
-        return self._near
+            # ... and seen from there: the largest adjoint value on the reachable set's edge
+            self._seen_green = greatest_green(self.solver, pts, self.space.edges, self._reachable,
+                                              self._near, self.reach)
+        # a possible source outside the reachable set is within reach when a reading on its
+        # edge would see it (DETECT_SNR times the reading noise; strength as believed now)
+        noise = self.sigma_used / np.sqrt(2.0)
+        seen = self._seen_green * self.imaging.strength_map() >= DETECT_SNR * noise
+        return self._near & (self._reachable | seen)
 
     def _choose_next(self) -> None:
         nxt = self.next_point()                                        # step 13
@@ -871,6 +904,10 @@ class ReciprocityStrategy(Strategy):
                     gap = np.hypot(*(cand.points[idx] - self._read_points()[-1]).T)
                     score[idx] *= np.exp(-gap / self.survey_travel)
             return None if idx.size == 0 else cand.nodes[idx[np.argmax(score[idx])]].copy()
+        if self.rule in ("axis", "reach") and self._likely_out_of_reach():
+            nxt = self._reach_test_point(allowed)
+            if nxt is not None:
+                return nxt
         if self.rule == "info":
             nxt, gain = self._info_point(allowed)
             if nxt is not None and gain < INFO_GAIN_MIN:
@@ -891,6 +928,24 @@ class ReciprocityStrategy(Strategy):
         inside = im.model()[:, -1] > im.readings[-1]                   # {v_k > I_k}
         mask = allowed & inside if (allowed & inside).any() else allowed
         return cand.nearest_ring(im.points[-1], mask, score, self.solver.h)
+
+    def _likely_out_of_reach(self) -> bool:
+        """From the second reading on, the belief puts more than TEST_REACH_ABOVE of its
+        mass out of reach (:meth:`within_reach`)."""
+        return self.imaging.n >= UNREACH_MIN_READINGS and \
+            self.notes.get("mass_out_of_reach", 0.0) > TEST_REACH_ABOVE
+
+    def _reach_test_point(self, allowed: np.ndarray) -> np.ndarray | None:
+        """The admissible node with the most belief within reach around it (the score of
+        rule ``"reach"`` over the possible sources within reach only): where a reading
+        confirms or rules out most of what the search can still find."""
+        idx = np.flatnonzero(allowed)
+        near = self._near_reachable()
+        if idx.size == 0 or not near.any():
+            return None
+        pts = self.space.points
+        score = mass_within_reach(pts[idx], pts[near], self.imaging.weights()[near], self.reach)
+        return self.space.nodes[idx[np.argmax(score)]].copy()
 
     def _separated(self) -> np.ndarray:
         """Mask of the nodes at least `d` from every point read, brought up to date with

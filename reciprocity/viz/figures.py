@@ -50,7 +50,8 @@ def _triangulation(imaging: ImagingMap) -> Triangulation:
 
 
 def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
-                         eps: float, steps=None, ncols: int = 4) -> Figure:
+                         eps: float, steps=None, ncols: int = 4,
+                         within_reach: np.ndarray | None = None) -> Figure:
     """One panel per step of a reciprocity search, as in the paper's Fig. 4.
 
     Background: ``P_M`` after the step; black: the newest level set ``{v_k = I_k}``;
@@ -73,8 +74,14 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
         Steps to draw (1-based); default: the first two and the last two.
     ncols : int
         Panels per row.
+    within_reach : ndarray of bool, optional
+        At the nodes of `imaging`: what the search could still reach at its end
+        (``ReciprocityStrategy.within_reach``), outlined dashed in the last panel with
+        the belief mass outside it, when some node lies outside.
     """
     n = imaging.n
+    if within_reach is not None and len(within_reach) != len(imaging.nodes):
+        within_reach = None                              # another mesh than the map's
     if steps is None:
         steps = sorted({1, min(2, n), max(1, n - 1), n})
     steps = [k for k in steps if 1 <= k <= n]
@@ -106,9 +113,15 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
         shown = np.atleast_2d(found) if found else est[None]
         ax.plot(shown[:, 0], shown[:, 1], "D", color="magenta", mec="k", ms=7, ls="")
         ax.plot(src[:, 0], src[:, 1], "*", color="lime", mec="k", ms=11, ls="")
+        outside = ""
+        if within_reach is not None and k == steps[-1] and not within_reach.all():
+            ax.tricontour(tri, within_reach.astype(float), levels=[0.5], colors="k",
+                          linestyles="--", linewidths=1.4)
+            w = sub.weights()
+            outside = f"\n{1.0 - w[within_reach].sum():.0%} of the belief out of reach"
         area = sub.area(eps)
         what = f"{len(found)} found" if found else f"est. ({est[0]:.1f}, {est[1]:.1f})"
-        ax.set_title(f"step {k}: area {area:.0f} cm², {what}", fontsize=9)
+        ax.set_title(f"step {k}: area {area:.0f} cm², {what}{outside}", fontsize=9)
         ax.set_xlabel("x (cm)", fontsize=8)
         ax.set_ylabel("y (cm)", fontsize=8)
     fig.colorbar(tpc, ax=fig.axes, shrink=0.8, label="imaging function $P_M$")
@@ -123,6 +136,8 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
         Line2D([], [], color="w", lw=1.5, label=f"region $P_M \\geq$ {eps:g}"),
         Line2D([], [], color="tab:blue", lw=1.2, label="path"),
     ]
+    if within_reach is not None and not within_reach.all():
+        handles.append(Line2D([], [], color="k", ls="--", lw=1.4, label="within reach (last step)"))
     if len(_replans(episode.trace)):
         handles.append(Line2D([], [], marker="o", ls="", mfc="none", mec="tab:blue", ms=4,
                               label="re-plans (car)"))

@@ -252,3 +252,65 @@ def test_mutual_information_of_a_reading_against_closed_forms():
     a, k = 3.0, 20000
     mi = mutual_information(rng.normal(0.0, a, (1, k)), np.full(k, 1.0 / k), 1.0)
     assert mi[0] == pytest.approx(0.5 * np.log(1.0 + a * a), abs=3 * a / np.sqrt(k) + 0.01)
+
+
+@pytest.fixture(scope="module")
+def slit():
+    """A wall across the arena with a 3 cm slit at its top: a car keeps 4 cm from the
+    walls, so it cannot pass."""
+    a = arenas.Arena.from_polygons([(0, 0), (140, 0), (140, 140), (0, 140)],
+                                   [[(60, 0), (64, 0), (64, 137), (60, 137)]], name="slit", strength=850.0)
+    return a, cached_solver(a, 2.0)
+
+
+def test_possible_sources_behind_a_slit_are_out_of_reach(slit):
+    """Within `reach` of the reachable part, as the crow flies and along the free region,
+    but seen from nowhere the observer can go: a unit source just behind the slit reads
+    below DETECT_SNR x the noise on the whole edge of the reachable part, so it is not
+    within reach; the same distance in the open is."""
+    from reciprocity.strategies.reciprocal import DETECT_SNR
+    from reciprocity.strategies.reach import edge_nodes
+    arena, solver = slit
+    s = started(solver, arena, noise=12.0, start=(30.0, 120.0), model_error=0.0)
+    s.restrict(lambda pts: pts[:, 0] < 56)          # the car's side, 4 cm from the wall
+    p, near = solver.nodes, s._near_reachable()
+    behind = (p[:, 0] > 66) & (p[:, 0] < 70) & (p[:, 1] > 131) & (np.hypot(p[:, 0] - 56, p[:, 1] - 136) < 11)
+    assert behind.sum() >= 5
+    # within reach by distance and by path (through the slit): the old test let them in
+    assert s._near[behind].all()
+    assert not near[behind].any()
+    # the adjoint fields of the whole edge agree: none of them sees these nodes
+    edge = edge_nodes(s.space.edges, s._reachable)
+    edge = edge[p[edge, 1] > 100]                   # the rest lies farther from them
+    g = solver.greens(p[edge])[behind]
+    noise = s.sigma_used / np.sqrt(2.0)
+    assert arena.strength * g.max() < DETECT_SNR * noise
+    # open space at the same distance on the car's side is seen
+    s2 = started(solver, arena, noise=12.0, start=(30.0, 120.0), model_error=0.0)
+    s2.restrict(lambda pts: pts[:, 0] < 40)
+    open_strip = (p[:, 0] > 46) & (p[:, 0] < 50) & (p[:, 1] > 20) & (p[:, 1] < 120)
+    assert s2._near_reachable()[open_strip].all()
+
+
+def test_mostly_out_of_reach_reads_where_the_reachable_belief_lies(empty):
+    """92 % of the belief out of reach, the rest in one blob the observer can reach: the
+    next reading goes to the blob (to find the source there or rule it out), and the
+    summary keys say how much lies out of reach and how large the reachable part is."""
+    from reciprocity.strategies.reciprocal import TEST_REACH_ABOVE
+    arena, solver = empty
+    s = started(solver, arena, model_error=0.0)
+    s.restrict(lambda pts: pts[:, 0] < 50)
+    s.imaging.add((20.0, 20.0), 0.0)
+    s.imaging.add((20.0, 60.0), 0.0)
+    x, y = solver.nodes.T
+    blob = np.hypot(x - 40.0, y - 110.0) < 6.0
+    s.imaging._cache["P"] = np.where(x > 110, 1.0, 0.0) + np.where(blob, 3.0, 0.0)
+    s._check_reachable()
+    assert not s.done
+    assert TEST_REACH_ABOVE < s.notes["mass_out_of_reach"] < 0.95
+    reachable = s.space.cell_areas[s._reachable].sum()
+    assert s.notes["reachable_area"] == pytest.approx(reachable, abs=0.1)
+    nxt = s.next_point()
+    assert np.hypot(*(nxt - [40.0, 110.0])) < s.reach
+    within = s.within_reach()
+    assert within[blob].all() and not within[x > 110].any()

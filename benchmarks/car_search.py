@@ -1,0 +1,134 @@
+"""The car's search on generated arenas and on ``paper`` and ``maze`` (issue 35).
+
+Draw ``i`` of a generated family ``F`` is the arena ``arenas.generate(F, i)`` with its own
+source and start; draw ``i`` of ``paper`` or ``maze`` is that arena with a source and start
+drawn as a campaign draws them (``reciprocity.campaign.worker.world_draw``, campaign seed
+2026). Each is run on the simulated car (physics, camera, HJ planner) with the
+``reciprocity`` strategy at its defaults, the map known, episode seed ``i``. The arenas
+take turns, so a run cut short covers all of them. Rows are appended to a CSV as
+episodes finish; a second run resumes.
+
+Each row keeps whether the true source is reachable by the car (``source_reachable``,
+the evaluator's judgement), the stop, the readings, the wall contacts and the car's
+simulated seconds per second of computing (``speed``).
+
+    nice -n 10 python benchmarks/car_search.py --draws 6 --out benchmarks/car_search/runs.csv
+    python benchmarks/car_search.py --table benchmarks/car_search/runs.csv > benchmarks/car_search.md
+
+``--minutes M`` stops starting new draws after M minutes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import sys
+import time
+from pathlib import Path
+
+FIELDS = ["arena", "draw", "success", "source_reachable", "stop", "error", "n_measurements",
+          "collisions", "sim_time_s", "wall_time_s", "speed", "mass_out_of_reach"]
+ARENAS = ("rooms", "spiral", "ring", "pillars", "maze", "office", "paper", "builtin-maze")
+CAMPAIGN_SEED = 2026
+
+
+def scenario_of(name: str, i: int):
+    """The scenario of draw `i` of arena `name` (a generated family, ``paper`` or
+    ``builtin-maze``)."""
+    import arenas
+    from reciprocity.campaign.spec import episode_seed
+    from reciprocity.campaign.worker import world_draw
+    from reciprocity.scenarios import load_scenario
+    if name in ("paper", "builtin-maze"):
+        sc = load_scenario(arenas.load(name.removeprefix("builtin-")))
+        draw = world_draw(sc, episode_seed(CAMPAIGN_SEED, i))
+        return sc.with_world({"source": draw["source"], "start": draw["start"]})
+    return load_scenario(arenas.generate(name, i))
+
+
+def run(names: list[str], draws: int, out: Path, minutes: float | None, start: int = 0) -> None:
+    from reciprocity.env import SearchEnv, rollout
+    from reciprocity.strategies import STRATEGIES
+    from reciprocity.strategies.agent import StrategyAgent
+    done = set()
+    if out.exists():
+        with out.open() as f:
+            done = {(r["arena"], int(r["draw"])) for r in csv.DictReader(f)}
+    out.parent.mkdir(parents=True, exist_ok=True)
+    new = not out.exists()
+    t_end = None if minutes is None else time.monotonic() + 60 * minutes
+    with out.open("a", newline="") as f:
+        w = csv.DictWriter(f, FIELDS)
+        if new:
+            w.writeheader()
+        for i in range(start, start + draws):
+            for name in names:
+                if (name, i) in done:
+                    continue
+                if t_end is not None and time.monotonic() > t_end:
+                    return
+                env = SearchEnv(scenario_of(name, i), platform="car")
+                t0 = time.perf_counter()
+                s = rollout(env, StrategyAgent(STRATEGIES["reciprocity"], {}), i).summary
+                wall = time.perf_counter() - t0
+                row = dict(arena=name, draw=i, success=s["success"], source_reachable=s.get("source_reachable"),
+                           stop=s["stop_reason"].split(":")[0], error=round(float(s["error"]), 2),
+                           n_measurements=s["n_measurements"], collisions=s.get("collisions", 0),
+                           sim_time_s=round(float(s["sim_time_s"]), 1), wall_time_s=round(wall, 2),
+                           speed=round(float(s["sim_time_s"]) / wall, 1),
+                           mass_out_of_reach=s.get("mass_out_of_reach"))
+                w.writerow(row)
+                f.flush()
+                print(row, flush=True)
+
+
+def table(paths: list[Path]) -> str:
+    """Markdown: success on reachable draws, unreachable stops, contacts, speed."""
+    import numpy as np
+    from scipy.stats import binomtest
+    rows = [r for p in paths for r in csv.DictReader(p.open())]
+    yes = lambda v: str(v) == "True"                                           # noqa: E731
+
+    def rate(k, n):
+        if n == 0:
+            return "-"
+        ci = binomtest(k, n).proportion_ci(0.95, method="wilson")
+        return f"{k}/{n} = {k / n:.0%} [{ci.low:.0%}, {ci.high:.0%}]"
+
+    out = ["| arena | draws | success, reachable source | readings median (reachable) | unreachable: "
+           "`unreachable` stops (≤ 10 readings) | contacts | speed: overall / slowest |",
+           "|---|---:|---|---:|---|---:|---|"]
+    for name in [*dict.fromkeys(r["arena"] for r in rows), "all"]:
+        sub = [r for r in rows if name in ("all", r["arena"])]
+        reach = [r for r in sub if yes(r["source_reachable"])]
+        unreach = [r for r in sub if not yes(r["source_reachable"])]
+        stops = sum(r["stop"] == "unreachable" for r in unreach)
+        quick = sum(r["stop"] == "unreachable" and int(r["n_measurements"]) <= 10 for r in unreach)
+        sim = sum(float(r["sim_time_s"]) for r in sub)
+        wall = sum(float(r["wall_time_s"]) for r in sub)
+        slow = min(float(r["speed"]) for r in sub)
+        med = np.median([int(r["n_measurements"]) for r in reach]) if reach else float("nan")
+        out.append(f"| {name} | {len(sub)} | {rate(sum(yes(r['success']) for r in reach), len(reach))} | "
+                   f"{med:g} | {stops}/{len(unreach)} ({quick}) | "
+                   f"{sum(int(r['collisions']) for r in sub)} | {sim / wall:.1f}x / {slow:.1f}x |")
+    return "\n".join(out)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--arenas", default=",".join(ARENAS), help="comma-separated families or paper, builtin-maze")
+    ap.add_argument("--draws", type=int, default=6)
+    ap.add_argument("--start", type=int, default=0, help="first draw")
+    ap.add_argument("--out", type=Path, default=Path("benchmarks/car_search/runs.csv"))
+    ap.add_argument("--minutes", type=float, default=None)
+    ap.add_argument("--table", type=Path, nargs="+", default=None, help="print the table of these CSVs")
+    a = ap.parse_args(argv)
+    if a.table:
+        print(table(a.table))
+        return 0
+    run(a.arenas.split(","), a.draws, a.out, a.minutes, a.start)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
