@@ -12,13 +12,22 @@ from nothing anywhere the observer can go: it is out of reach, however close it 
 
 from __future__ import annotations
 
+import hashlib
+import threading
+import weakref
+
 import numpy as np
 
 __all__ = ["edge_nodes", "thinned", "greatest_green", "DETECT_PROBES"]
 
 #: Most edge nodes whose adjoint fields :func:`greatest_green` solves for (spread evenly
 #: over the edge by thinning on a square lattice).
-DETECT_PROBES = 400
+DETECT_PROBES = 200
+#: Results of :func:`greatest_green` kept per solver (the episodes of a campaign on one
+#: arena share their reachable part): one float per node each.
+KEEP_PER_SOLVER = 8
+_kept: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+_lock = threading.Lock()
 #: Columns solved at once (memory: nodes x this many doubles).
 CHUNK = 64
 
@@ -69,9 +78,10 @@ def thinned(points: np.ndarray, idx: np.ndarray, most: int, cell: float) -> np.n
         side *= 1.5
 
 
-def greatest_green(solver, points: np.ndarray, edges, reachable: np.ndarray,
-                   candidates: np.ndarray, reach: float, *, most: int = DETECT_PROBES) -> np.ndarray:
-    """``max_y G(y, x)`` over the edge of `reachable`, for every candidate node ``x``.
+def greatest_green(solver, points: np.ndarray, edges, reachable: np.ndarray, reach: float, *,
+                   most: int = DETECT_PROBES) -> np.ndarray:
+    """``max_y G(y, x)`` over the edge of `reachable`, for every node ``x`` outside it
+    within `reach` of it.
 
     Parameters
     ----------
@@ -83,31 +93,45 @@ def greatest_green(solver, points: np.ndarray, edges, reachable: np.ndarray,
         The mesh's edges ``(i, j)``.
     reachable : ndarray of bool, shape (n,)
         Where the observer can go.
-    candidates : ndarray of bool, shape (n,)
-        The nodes outside `reachable` to test.
     reach : float
-        Only edge nodes within this distance (cm) of a candidate are probed.
+        The nodes tested: those outside `reachable` within this distance (cm) of it.
     most : int
         Most edge nodes solved for (thinned evenly, :func:`thinned`).
 
     Returns
     -------
     ndarray, shape (n,)
-        The largest adjoint value at each candidate (a unit source there, read on the edge
-        of `reachable`); ``inf`` on `reachable`, 0 elsewhere. Thinning can only lower it.
+        The largest adjoint value at each node tested (a unit source there, read on the
+        edge of `reachable`); ``inf`` on `reachable`, 0 elsewhere. Thinning can only lower it.
+        Kept per solver for the same arguments (read-only).
     """
+    key = hashlib.sha1(np.packbits(reachable).tobytes() + np.float64(reach).tobytes()
+                       + np.int64(most).tobytes()).hexdigest()
+    with _lock:
+        kept = _kept.setdefault(solver, {})
+        if key in kept:
+            kept[key] = kept.pop(key)                     # the most recently used last
+            return kept[key]
+    out = _greatest_green(solver, points, edges, reachable, float(reach), int(most))
+    out.setflags(write=False)
+    with _lock:
+        kept[key] = out
+        while len(kept) > KEEP_PER_SOLVER:
+            kept.pop(next(iter(kept)))
+    return out
+
+
+def _greatest_green(solver, points, edges, reachable, reach, most) -> np.ndarray:
     out = np.zeros(len(points))
     out[reachable] = np.inf
-    cand = np.flatnonzero(candidates & ~reachable)
-    if cand.size == 0:
-        return out
     edge = edge_nodes(edges, reachable)
-    if edge.size == 0:
+    if edge.size == 0 or reachable.all():
         return out
     from scipy.spatial import cKDTree
-    d, _ = cKDTree(points[cand]).query(points[edge], distance_upper_bound=float(reach))
-    edge = edge[np.isfinite(d)]
-    if edge.size == 0:
+    outside = np.flatnonzero(~reachable)
+    d, _ = cKDTree(points[edge]).query(points[outside], distance_upper_bound=reach)
+    cand = outside[np.isfinite(d)]
+    if cand.size == 0:
         return out
     probes = thinned(points, edge, most, solver.h)
     best = np.zeros(cand.size)

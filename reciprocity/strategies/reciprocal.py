@@ -529,6 +529,7 @@ class ReciprocityStrategy(Strategy):
         self.space = self._space(geometry)
         self.rng = ctx.rng
         self._reachable = self.space.reachable_from(pose[:2], self.clearance)
+        self._sensing = self._reachable.copy()      # where readings could be taken from
         self._next = np.asarray(pose[:2], dtype=float)
         self._here = self._next.copy()
         self.n_surveys, self._survey_next = 0, False
@@ -626,6 +627,7 @@ class ReciprocityStrategy(Strategy):
             self.imaging = self.book.rebase(raw, self.space.wall_distance)
         self._node_area = self.space.cell_areas
         self._reachable = self.space.admissible(self.clearance)
+        self._sensing = self._reachable.copy()
         self._far, self._far_count, self._near_key = np.ones(len(self.space.points), dtype=bool), 0, None
         self._support_key = None
         self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
@@ -837,10 +839,15 @@ class ReciprocityStrategy(Strategy):
             pts = self.space.points
             dist = cKDTree(pts[self._reachable]).query(pts, distance_upper_bound=self.reach)[0]
             path = self.space.within_path(self._reachable, PATH_SLACK * self.reach)
-            self._near, self._near_key = np.isfinite(dist) & path, key
-            # ... and seen from there: the largest adjoint value on the reachable set's edge
-            self._seen_green = greatest_green(self.solver, pts, self.space.edges, self._reachable,
-                                              self._near, self.reach)
+            self._near, self._near_key, self._seen_green = np.isfinite(dist) & path, key, None
+        if self.imaging.n == 0:                  # no reading yet: the belief is the prior
+            return self._near
+        if self._seen_green is None:
+            # ... and seen from there: the largest adjoint value on the edge of the part of the
+            # free region the observer's clearance lets it into (the same for every start in
+            # it, so kept between episodes; the platform's own reachable set lies inside it)
+            self._seen_green = greatest_green(self.solver, self.space.points, self.space.edges,
+                                              self._sensing, self.reach)
         # a possible source outside the reachable set is within reach when a reading on its
         # edge would see it (DETECT_SNR times the reading noise; strength as believed now)
         noise = self.sigma_used / np.sqrt(2.0)
