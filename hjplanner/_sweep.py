@@ -30,6 +30,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 from numba import njit
 
+from ._motion import _arc_end, _arc_is_clear, _sample_count
+
 INF = np.inf
 # Stand-in for +inf inside the sweeps.  Blocked and not-yet-reached nodes hold
 # BIG; a bilinear weight is either 0 or above ~1e-18 (fractions are snapped),
@@ -135,15 +137,23 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
     Bit c of ``adm[k, i, j]`` is set when the arc of control c from the free
     node (i, j) at heading k stays at the clearance: either the node is
     farther than ``clearance + reach[c]`` from every wall (the arc is
-    shorter than ``reach[c]``), or every sample m of the arc, in cell
-    ``(i + ci, j + cj)`` at ``corner_dist`` from its corners, has a
-    certified wall distance of at least ``margin[c]``.
+    shorter than ``reach[c]``), or its middle sample has a certified wall
+    distance of at least ``margin[c]`` plus the arc length from it to the
+    farther end (the whole arc lies in that disk), or every sample m of
+    the arc, in cell ``(i + ci, j + cj)`` at ``corner_dist`` from its
+    corners, has a certified wall distance of at least ``margin[c]`` or
+    lies within the disk of radius ``bound - margin[c]`` around an earlier
+    sample of certified distance ``bound`` (a point of that disk is at
+    least ``margin[c]`` from every wall, the wall distance being
+    1-Lipschitz); samples in such disks are skipped.
     """
     nt, nc, nm = ci.shape
     nx, ny = distance.shape
     adm = np.zeros((nt, nx, ny), np.uint32)
     every = np.uint32((1 << nc) - 1)
     far = clearance + reach.max()
+    mid = (nm - 1) // 2
+    half = (nm - 1 - mid) / (nm - 1)  # arc length from the middle sample to the farther end / reach
     for i in range(nx):
         for j in range(ny):
             if not free[i, j]:
@@ -158,8 +168,21 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
                 for c in range(nc):
                     ok = d0 >= clearance + reach[c]
                     if not ok:
+                        a = i + ci[k, c, mid]
+                        b = j + cj[k, c, mid]
+                        if a >= 0 and b >= 0 and a <= nx - 2 and b <= ny - 2:
+                            bound = -np.inf
+                            for corner in range(4):
+                                value = distance[a + corner // 2, b + corner % 2] - corner_dist[k, c, mid, corner]
+                                if value > bound:
+                                    bound = value
+                            ok = bound >= margin[c] + reach[c] * half
+                    if not ok:
                         ok = True
-                        for m in range(nm):
+                        step = reach[c] / (nm - 1)  # arc length between samples
+                        covered = -1.0  # samples up to this index lie in the certified disk of a checked one
+                        m = 0
+                        while m < nm:
                             a = i + ci[k, c, m]
                             b = j + cj[k, c, m]
                             if a < 0 or b < 0 or a > nx - 2 or b > ny - 2:
@@ -171,10 +194,15 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
                                 if value > bound:
                                     bound = value
                             if bound < margin[c]:
+                                if m <= covered:
+                                    m += 1
+                                    continue
                                 ok = False
                                 break
                             if bound - margin[c] >= reach[c] * (nm - 1 - m) / (nm - 1):
                                 break  # the rest of the arc lies in the certified disk around this sample
+                            covered = max(covered, m + (bound - margin[c]) / step)
+                            m += max(1, int((bound - margin[c]) / step))
                     if ok:
                         bits |= np.uint32(1) << np.uint32(c)
                 adm[k, i, j] = bits
@@ -337,7 +365,7 @@ def interpolate(phi, free, certified, x0, y0, h, xs, ys, ths, cubic, lenient):
     node the trilinear value is used.  Poses outside the grid or not
     ``certified`` (outside free space or its clearance) give +inf.
     """
-    nt, nx, ny = phi.shape
+    nt = phi.shape[0]
     n = xs.shape[0]
     out = np.empty(n)
     dth = 2.0 * np.pi / nt
@@ -345,62 +373,147 @@ def interpolate(phi, free, certified, x0, y0, h, xs, ys, ths, cubic, lenient):
     wyc = np.empty(4)
     wtc = np.empty(4)
     for m in range(n):
-        gx = (xs[m] - x0) / h
-        gy = (ys[m] - y0) / h
-        if not (certified[m] and gx >= -1e-9 and gx <= nx - 1 + 1e-9 and gy >= -1e-9 and gy <= ny - 1 + 1e-9):
+        if not certified[m]:
             out[m] = INF
+            continue
+        out[m] = _interpolate_one(phi, free, (xs[m] - x0) / h, (ys[m] - y0) / h, (ths[m] / dth) % nt, cubic,
+                                  lenient, wxc, wyc, wtc)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _interpolate_one(phi, free, gx, gy, gt, cubic, lenient, wxc, wyc, wtc):
+    """:func:`interpolate` at grid coordinates (gx, gy, gt), gt in [0, ntheta); ``w*c`` are scratch (4,).
+
+    At a grid heading (gt an integer) only that layer is read.
+    """
+    nt, nx, ny = phi.shape
+    if not (gx >= -1e-9 and gx <= nx - 1 + 1e-9 and gy >= -1e-9 and gy <= ny - 1 + 1e-9):
+        return INF
+    i = min(max(int(np.floor(gx)), 0), nx - 2)
+    j = min(max(int(np.floor(gy)), 0), ny - 2)
+    k = int(np.floor(gt)) % nt
+    fx = gx - i
+    fy = gy - j
+    ft = gt - np.floor(gt)
+    # trilinear; with lenient, over the reached corners only
+    lin = 0.0
+    total = 0.0
+    for c in range(2):
+        wt = ft if c == 1 else 1.0 - ft
+        if wt <= 0.0:
+            continue
+        kc = (k + c) % nt
+        for a in range(2):
+            wa = fx if a == 1 else 1.0 - fx
+            for b in range(2):
+                wb = fy if b == 1 else 1.0 - fy
+                weight = wt * wa * wb
+                if weight <= 0.0:
+                    continue
+                v = phi[kc, i + a, j + b]
+                if not free[i + a, j + b] or (v == INF and not lenient):
+                    lin = INF
+                if v == INF:
+                    continue
+                if lin < INF:
+                    lin += weight * v
+                    total += weight
+    if lin == INF or total <= 0.0:
+        return INF
+    lin /= total
+    if not cubic or i < 1 or j < 1 or i > nx - 3 or j > ny - 3:
+        return lin
+    _cubic_weights(fx, wxc)
+    _cubic_weights(fy, wyc)
+    _cubic_weights(ft, wtc)
+    c0, c1 = (1, 2) if ft == 0.0 else (0, 4)  # Catmull-Rom weights at 0: (0, 1, 0, 0)
+    acc = 0.0
+    for c in range(c0, c1):
+        kc = (k + c - 1) % nt
+        for a in range(4):
+            for b in range(4):
+                v = phi[kc, i + a - 1, j + b - 1]
+                if v == INF:
+                    return lin
+                acc += wtc[c] * wxc[a] * wyc[b] * v
+    return max(acc, 0.0)
+
+
+@njit(cache=True, nogil=True)
+def arc_readings(phi, free, distance, clearance, x0, y0, h, rho, reverse, xs, ys, ths, base, steps, cubic,
+                 lenient):
+    """``base`` lowered, pose by pose, by readings along exact arcs to the nearby grid headings.
+
+    From a pose (x, y, θ) between the grid headings θ_k and θ_k+1 the car
+    can turn left to θ_k+1, ..., θ_k+steps or right to θ_k, ..., θ_k+1-steps
+    (forwards; with ``reverse`` also backwards) along an exact arc of length
+    ``s = ρ |Δθ|``, which ends at a grid heading: ``s + φ(end)`` is then an
+    upper bound of φ (the dynamic programming principle) read without
+    interpolation in θ, which smears φ across its jumps (where the target
+    passes from one side of a turning circle to the other) over a whole
+    angular step.  Only arcs certified clear of the walls at ``clearance``
+    (the samples of :func:`hjplanner._motion.arcs_are_clear`) and ending at
+    a finite reading count.  Poses where ``base`` is +inf, or at a grid
+    heading, keep it.
+
+    Parameters
+    ----------
+    phi, free, distance : numpy.ndarray
+        Node values (ntheta, nx, ny), free mask and signed wall distance (nx, ny).
+    clearance, x0, y0, h, rho : float
+        Wall clearance, grid origin, spacing and turning radius (length unit).
+    reverse : bool
+        Also backward arcs.
+    xs, ys, ths, base : numpy.ndarray
+        (n,) poses (length unit, radians) and their interpolated φ.
+    steps : int
+        Grid headings reached on each side.
+    cubic, lenient : bool
+        As in :func:`interpolate`.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) the smaller of ``base`` and the arc readings.
+    """
+    nt = phi.shape[0]
+    dth = 2.0 * np.pi / nt
+    out = base.copy()
+    wxc = np.empty(4)
+    wyc = np.empty(4)
+    wtc = np.empty(4)
+    for m in range(xs.shape[0]):
+        if out[m] == INF:
             continue
         gt = (ths[m] / dth) % nt
-        i = min(max(int(np.floor(gx)), 0), nx - 2)
-        j = min(max(int(np.floor(gy)), 0), ny - 2)
-        k = int(np.floor(gt)) % nt
-        fx = gx - i
-        fy = gy - j
-        ft = gt - np.floor(gt)
-        # trilinear; with lenient, over the reached corners only
-        lin = 0.0
-        total = 0.0
-        for c in range(2):
-            wt = ft if c == 1 else 1.0 - ft
-            kc = (k + c) % nt
-            for a in range(2):
-                wa = fx if a == 1 else 1.0 - fx
-                for b in range(2):
-                    wb = fy if b == 1 else 1.0 - fy
-                    weight = wt * wa * wb
-                    if weight <= 0.0:
+        k = int(np.floor(gt))
+        f = gt - k
+        if f == 0.0:
+            continue  # at a grid heading nothing is interpolated in θ
+        best = out[m]
+        for jj in range(1, steps + 1):
+            for side in range(2):
+                if side == 0:  # left turn forwards (right turn backwards) to heading k + jj
+                    d, u, kc = (jj - f) * dth, 1.0, (k + jj) % nt
+                else:  # right turn forwards (left turn backwards) to heading k + 1 - jj
+                    d, u, kc = (f + jj - 1) * dth, -1.0, (k + 1 - jj) % nt
+                if d <= 0.0:
+                    continue
+                s = rho * d
+                if s >= best:
+                    continue
+                npts = _sample_count(s, h)
+                need = clearance + 0.5 * (s / (npts - 1))
+                for v in (1.0, -1.0):
+                    if v < 0 and not reverse:
                         continue
-                    v = phi[kc, i + a, j + b]
-                    if not free[i + a, j + b] or (v == INF and not lenient):
-                        lin = INF
-                    if v == INF:
+                    ex, ey, _ = _arc_end(xs[m], ys[m], ths[m], u * v, v, s, rho)
+                    if not _arc_is_clear(distance, x0, y0, h, need, xs[m], ys[m], ths[m], u * v, v, s, npts, rho):
                         continue
-                    if lin < INF:
-                        lin += weight * v
-                        total += weight
-        if lin == INF or total <= 0.0:
-            out[m] = INF
-            continue
-        lin /= total
-        if not cubic or i < 1 or j < 1 or i > nx - 3 or j > ny - 3:
-            out[m] = lin
-            continue
-        _cubic_weights(fx, wxc)
-        _cubic_weights(fy, wyc)
-        _cubic_weights(ft, wtc)
-        acc = 0.0
-        for c in range(4):
-            kc = (k + c - 1) % nt
-            for a in range(4):
-                for b in range(4):
-                    v = phi[kc, i + a - 1, j + b - 1]
-                    if v == INF:
-                        acc = INF
-                        break
-                    acc += wtc[c] * wxc[a] * wyc[b] * v
-                if acc == INF:
-                    break
-            if acc == INF:
-                break
-        out[m] = lin if acc == INF else max(acc, 0.0)
+                    value = s + _interpolate_one(phi, free, (ex - x0) / h, (ey - y0) / h, float(kc), cubic, lenient,
+                                                 wxc, wyc, wtc)
+                    if value < best:
+                        best = value
+        out[m] = best
     return out
