@@ -168,10 +168,11 @@ class ValueFunction:
         return out
 
     def dtheta(self, x: ArrayLike, y: ArrayLike, theta: ArrayLike, step: float | None = None) -> np.ndarray:
-        """Centred difference approximation of φ_θ (length per radian), nan-free (+-inf or 0 when one-sided)."""
+        """Centred difference of the interpolated φ in θ (length per radian, no arc readings), nan-free
+        (+-inf or 0 when one-sided)."""
         step = self.grid.dtheta / 2 if step is None else float(step)
-        plus = self(x, y, np.asarray(theta) + step)
-        minus = self(x, y, np.asarray(theta) - step)
+        plus = self(x, y, np.asarray(theta) + step, arcs=False)
+        minus = self(x, y, np.asarray(theta) - step, arcs=False)
         with np.errstate(invalid="ignore"):
             d = (plus - minus) / (2 * step)
         return np.where(np.isnan(d), 0.0, d)
