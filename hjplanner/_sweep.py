@@ -43,81 +43,158 @@ UNREACHABLE = 1e50
 
 BLOCK = 8  # side of the (x, y) blocks whose changes are tracked, in nodes
 GROUPS = 2  # groups of layers swept independently within a sweep (see solve_sweeps)
+NEVER = -(1 << 62)  # stamp of a block that never held a finite value
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _dep_changed(changed, kc, e0, f0, since):
+    """Whether one of the 2 x 2 blocks from (e0, f0) of layer kc changed at or after stamp ``since``."""
+    nbx, nby = changed.shape[1], changed.shape[2]
+    for e in range(max(e0, 0), min(e0 + 2, nbx)):
+        for f in range(max(f0, 0), min(f0 + 2, nby)):
+            if changed[kc, e, f] >= since:
+                return True
+    return False
 
 
 @njit(cache=True, nogil=True)
-def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, active, tol, sweep,
-                  changed, scratch):
-    """One Gauss-Seidel pass over layer ``k`` of the padded array, only in ``active`` blocks.
+def _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, i0, i1, j0, j1, scratch):
+    """``scratch[i, j]``: the smaller of ``bc`` and the turning stencils' candidates, on ``[i0, i1) x [j0, j1)``.
+
+    The turning stencils read other layers only (``src``: the layer, or its
+    snapshot, that stencil c of layer k reads), which do not change during a
+    layer's pass, so they are taken first, a row at a time in loops the
+    compiler vectorises.
+    """
+    nc = off_i.shape[1]
+    m = j1 - j0
+    for i in range(i0, i1):
+        ip = i + pad
+        # Row slices indexed from 0: the compiler then vectorises the loop over j.
+        sc = scratch[i, j0:j1]
+        sc[:] = bc[k, i, j0:j1]
+        ad = adm[k, i, j0:j1]
+        for c in range(nc):
+            if kk[k, c] == k:
+                continue
+            kc = src[k, c]
+            a = ip + off_i[k, c]
+            b0 = pad + off_j[k, c] + j0
+            w0, w1, w2, w3 = w[k, c, 0], w[k, c, 1], w[k, c, 2], w[k, c, 3]
+            cst, inv = cost[k, c], inv_self[k, c]
+            bit = np.uint32(1) << np.uint32(c)
+            r0 = phi[kc, a, b0:b0 + m + 1]
+            r1 = phi[kc, a + 1, b0:b0 + m + 1]
+            for j in range(m):
+                value = (cst + w0 * r0[j] + w1 * r0[j + 1] + w2 * r1[j] + w3 * r1[j + 1]) * inv
+                if (ad[j] & bit) == 0:
+                    value = INF
+                sc[j] = min(sc[j], value)
+
+
+@njit(cache=True, nogil=True)
+def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i, rev_j, pad, qi, qj, seen, tol,
+                  stamp, changed, computed, turn, scratch):
+    """One Gauss-Seidel pass over layer ``k`` of the padded array, block by block; returns the blocks computed.
 
     Candidate of stencil c, if its arc is clear of the walls (bit c of
     ``adm``): ``(cost + Σ_ab w_ab φ_foot,ab) * inv_self`` where a weight on
     the node itself (straight steps shorter than the cell diagonal) is moved
-    to the left-hand side.  Sets ``changed[k, bi, bj] = sweep`` where some
-    node decreased by more than ``tol``.
+    to the left-hand side.  The foot cells of stencil c from a block lie in
+    the 2 x 2 blocks from ``(bi + qi[k, c], bj + qj[k, c])`` of layer
+    ``src[k, c]``.  A block is computed only if one of them changed at a
+    stamp ``>= computed + seen[k, c]`` (``seen`` is 1 where a change with
+    the block's own stamp was made before the block read it), and then
+    gets ``computed[k, bi, bj] = stamp`` -- and ``changed[k, bi, bj] = stamp``
+    where some node decreased by more than ``tol``.
 
-    The turning stencils read other layers only, which do not change during
-    this pass: their minimum (with ``bc``) is taken first, a whole row of
-    active blocks at a time in loops the compiler vectorises, into
-    ``scratch`` (nx, ny).  The straight stencils, whose feet lie in this
-    layer, follow node by node in the Gauss-Seidel order.  The minimum being
-    exact, the result is the same as taking every candidate node by node.
+    The blocks are visited row by row in the order of the nodes (``rev_i``,
+    ``rev_j``), and the nodes of a block in that order too: a node whose
+    straight feet all lie upstream in both coordinates reads them after
+    their update, as in a pass over the whole layer.  Whether a block depends
+    on a change of this layer is decided when the pass reaches it, so a
+    change travels along straight motion across any number of blocks in one
+    pass.  The turning minimum (:func:`_turning_min`) of the blocks that
+    depend on another layer's change is taken a row of blocks at a time, the
+    straight stencils follow node by node.  The minimum being exact, the
+    result is the same as taking every candidate node by node.
     """
     nt, nxp, nyp = phi.shape
     nx, ny = nxp - 2 * pad, nyp - 2 * pad
     nc = off_i.shape[1]
-    nby = active.shape[1]
-    for i in range(nx):
-        bi = i // BLOCK
-        ip = i + pad
-        bj = 0
-        while bj < nby:
-            if not active[bi, bj]:
-                bj += 1
-                continue
-            run = bj
-            while run < nby and active[bi, run]:
-                run += 1
-            j0, j1 = bj * BLOCK, min(run * BLOCK, ny)
-            bj = run
-            for j in range(j0, j1):
-                scratch[i, j] = bc[k, i, j]
+    nbx, nby = computed.shape[1], computed.shape[2]
+    n_straight = 0
+    straight = np.empty(nc, np.int64)
+    for c in range(nc):
+        if kk[k, c] == k:
+            straight[n_straight] = c
+            n_straight += 1
+    n_blocks = 0
+    for pb in range(nbx):
+        bi = nbx - 1 - pb if rev_i else pb
+        i0, i1 = bi * BLOCK, min(bi * BLOCK + BLOCK, nx)
+        any_turn = False
+        for bj in range(nby):
+            since = computed[k, bi, bj]
+            flag = False
             for c in range(nc):
-                kc = kk[k, c]
-                if kc == k:
+                if kk[k, c] != k and _dep_changed(changed, src[k, c], bi + qi[k, c], bj + qj[k, c],
+                                                  since + seen[k, c]):
+                    flag = True
+                    break
+            turn[bj] = flag
+            any_turn = any_turn or flag
+        if any_turn:
+            bj = 0
+            while bj < nby:
+                if not turn[bj]:
+                    bj += 1
                     continue
-                a = ip + off_i[k, c]
-                b0 = pad + off_j[k, c]
-                w0, w1, w2, w3 = w[k, c, 0], w[k, c, 1], w[k, c, 2], w[k, c, 3]
-                cst, inv = cost[k, c], inv_self[k, c]
-                bit = np.uint32(1) << np.uint32(c)
-                for j in range(j0, j1):
-                    b = b0 + j
-                    value = (cst + w0 * phi[kc, a, b] + w1 * phi[kc, a, b + 1] + w2 * phi[kc, a + 1, b]
-                             + w3 * phi[kc, a + 1, b + 1]) * inv
-                    if (adm[k, i, j] & bit) != 0 and value < scratch[i, j]:
-                        scratch[i, j] = value
-    for p in range(nx):
-        i = nx - 1 - p if rev_i else p
-        bi = i // BLOCK
-        for q in range(ny):
-            j = ny - 1 - q if rev_j else q
-            bj = j // BLOCK
-            bits = adm[k, i, j]
-            if bits == 0 or not active[bi, bj]:
-                continue
-            ip, jp = i + pad, j + pad
-            best = scratch[i, j]
-            for c in range(nc):
-                if kk[k, c] == k and (bits >> c) & 1:
-                    best = min(best, _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost))
-            old = phi[k, ip, jp]
-            # Candidates that touched BIG stay unreached (BIG) rather than
-            # creeping down geometrically through astronomically large values.
-            if best < old and best < UNREACHABLE:
-                phi[k, ip, jp] = best
-                if old - best > tol:
-                    changed[k, bi, bj] = sweep
+                run = bj
+                while run < nby and turn[run]:
+                    run += 1
+                _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, i0, i1, bj * BLOCK,
+                             min(run * BLOCK, ny), scratch)
+                bj = run
+        for qb in range(nby):
+            bj = nby - 1 - qb if rev_j else qb
+            j0, j1 = bj * BLOCK, min(bj * BLOCK + BLOCK, ny)
+            if not turn[bj]:
+                since = computed[k, bi, bj]
+                flag = False
+                for s in range(n_straight):
+                    c = straight[s]
+                    if _dep_changed(changed, k, bi + qi[k, c], bj + qj[k, c], since + seen[k, c]):
+                        flag = True
+                        break
+                if not flag:
+                    continue
+                _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, i0, i1, j0, j1,
+                             scratch)
+            n_blocks += 1
+            computed[k, bi, bj] = stamp
+            for p in range(i0, i1):
+                i = i1 - 1 - (p - i0) if rev_i else p
+                ip = i + pad
+                for q in range(j0, j1):
+                    j = j1 - 1 - (q - j0) if rev_j else q
+                    if adm[k, i, j] == 0:
+                        continue
+                    jp = j + pad
+                    best = scratch[i, j]
+                    bits = adm[k, i, j]
+                    for s in range(n_straight):
+                        c = straight[s]
+                        if (bits >> c) & 1:
+                            best = min(best, _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost))
+                    old = phi[k, ip, jp]
+                    # Candidates that touched BIG stay unreached (BIG) rather than
+                    # creeping down geometrically through astronomically large values.
+                    if best < old and best < UNREACHABLE:
+                        phi[k, ip, jp] = best
+                        if old - best > tol:
+                            changed[k, bi, bj] = stamp
+    return n_blocks
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -210,48 +287,32 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
 
 
 @njit(cache=True, nogil=True)
-def _layer_is_active(k, kk, reach, changed, computed, active):
-    """Mark blocks of layer k that depend on a block changed since they were computed."""
-    nt, nbx, nby = changed.shape
-    nc = kk.shape[1]
-    n_active = 0
-    for bi in range(nbx):
-        for bj in range(nby):
-            since = computed[k, bi, bj]
-            flag = False
-            for c in range(nc + 1):
-                kc = k if c == nc else kk[k, c]
-                for ei in range(max(bi - reach, 0), min(bi + reach + 1, nbx)):
-                    for ej in range(max(bj - reach, 0), min(bj + reach + 1, nby)):
-                        if changed[kc, ei, ej] >= since:
-                            flag = True
-                            break
-                    if flag:
-                        break
-                if flag:
-                    break
-            active[bi, bj] = flag
-            if flag:
-                n_active += 1
-    return n_active
+def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, qi, qj, seen, tol, stamps, changed,
+                  computed, order, rev_i, rev_j, turn, scratch):
+    """Sweep the layers in ``order``, layer ``order[p]`` with stamp ``stamps[p]``; returns the blocks computed."""
+    n_blocks = 0
+    for p in range(order.shape[0]):
+        k = order[p]
+        n_blocks += _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i[k], rev_j[k], pad,
+                                  qi, qj, seen, tol, stamps[p], changed, computed, turn, scratch)
+    return n_blocks
 
 
-@njit(cache=True, nogil=True)
-def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, pad, reach, tol, sweep, changed, computed,
-                  active, order, rev_i, rev_j, scratch):
-    """Sweep the layers in ``order``; returns how many layers had active blocks."""
-    n_run = 0
-    for k in order:
-        if _layer_is_active(k, kk, reach, changed, computed, active) == 0:
-            continue
-        n_run += 1
-        _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i[k], rev_j[k], pad, active, tol,
-                      sweep, changed, scratch)
-        for bi in range(active.shape[0]):
-            for bj in range(active.shape[1]):
-                if active[bi, bj]:
-                    computed[k, bi, bj] = sweep
-    return n_run
+def _upstream(off_i, off_j, w, kk, rev_i, rev_j):
+    """``seen`` of :func:`_update_layer`: 1 for the straight stencils whose feet all lie upstream, 0 otherwise.
+
+    A foot corner ``(di, dj)`` with a positive weight is upstream when each
+    offset is 0 or points against the order of the nodes in its coordinate,
+    so that the pass (block by block, node by node) has updated it before
+    the node reads it.
+    """
+    nt = kk.shape[0]
+    di = off_i[..., None] + np.array([0, 0, 1, 1])  # (nt, nc, 4): corners (0,0), (0,1), (1,0), (1,1)
+    dj = off_j[..., None] + np.array([0, 1, 0, 1])
+    up_i = (di == 0) | ((di > 0) == np.asarray(rev_i, bool)[:, None, None])
+    up_j = (dj == 0) | ((dj > 0) == np.asarray(rev_j, bool)[:, None, None])
+    ok = np.all((w <= 0) | (up_i & up_j), axis=-1)
+    return ((kk == np.arange(nt)[:, None]) & ok).astype(np.int64)
 
 
 def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, tol, max_sweeps, nthreads,
@@ -276,28 +337,40 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     given, is called after every sweep with the sweeps done, the blocks recomputed in it
     and the number of blocks.  With reverse driving (``two_way``) the order within the layers
     also flips every other pair of sweeps, so that reverse straight steps,
-    whose feet lie behind the node, are resolved in one pass as well.  A
-    block of a layer is recomputed only if a block it depends on changed
-    since the block was last computed, so converged regions cost nothing in
-    later sweeps.  Returns the number of sweeps done.
+    whose feet lie behind the node, are resolved in one pass as well.
+
+    Work is tracked in (x, y) blocks of :data:`BLOCK` nodes of each layer,
+    with stamps: every layer pass gets a larger stamp than the previous one
+    (with 2 threads, every sweep), a block records the stamp of its last
+    computation and of its last change by more than ``tol``, and it is
+    computed again only if a block holding the feet of one of its stencils
+    changed after it read them.  Blocks that never held a finite value have
+    no stamp, so the sweeps skip the region the front has not reached, and
+    converged regions cost nothing in later sweeps.  Returns the number of
+    sweeps done.
     """
     nt = phi.shape[0]
     nx, ny = phi.shape[1] - 2 * pad, phi.shape[2] - 2 * pad
     nbx = (nx + BLOCK - 1) // BLOCK
     nby = (ny + BLOCK - 1) // BLOCK
-    reach = (pad + BLOCK - 1) // BLOCK
+    qi, qj = off_i // BLOCK, off_j // BLOCK
     groups = max(1, min(int(nthreads), GROUPS, nt))
     turn = int(np.abs((kk - np.arange(nt)[:, None] + nt // 2) % nt - nt // 2).max())
     nsnap = 0 if groups == 1 else min(nt, 2 * groups * turn)
     # layers nt.. of `work` and `changed` hold the snapshots of the sweep
-    work = np.empty((nt + nsnap, *phi.shape[1:]))
-    work[:nt] = phi
-    changed = np.full((nt + nsnap, nbx, nby), -1, np.int64)  # sweep of the last change; -1: initial data
-    computed = np.full((nt, nbx, nby), -2, np.int64)  # sweep of the last computation
-    active = np.zeros((groups, nbx, nby), np.bool_)
+    if nsnap:
+        work = np.empty((nt + nsnap, *phi.shape[1:]))
+        work[:nt] = phi
+    else:
+        work = phi
+    changed = np.full((nt + nsnap, nbx, nby), NEVER, np.int64)  # stamp of the last change
+    k, i, j = np.nonzero(phi[:, pad:pad + nx, pad:pad + ny] < UNREACHABLE)
+    changed[k, i // BLOCK, j // BLOCK] = 0  # the initial data
+    computed = np.full((nt, nbx, nby), -1, np.int64)  # stamp of the last computation
+    flags = np.zeros((groups, nby), np.bool_)
     scratch = np.empty((groups, nx, ny))
-    args = (work, bc, off_i, off_j, w, inv_self)
-    rest = (cost, adm, pad, reach, float(tol))
+    args = (work, bc, off_i, off_j, w, inv_self, kk)
+    rest = (cost, adm, pad, qi, qj)
 
     def layers(group, sweep):
         start, stop = (group * nt) // groups, ((group + 1) * nt) // groups
@@ -307,6 +380,8 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
 
     def sources(sweep):
         """``kk`` with every stencil reaching into another group redirected to a snapshot layer."""
+        if groups == 1:
+            return kk
         owner = np.empty(nt, np.int64)
         for group in range(groups):
             owner[layers(group, sweep)] = group
@@ -318,6 +393,7 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
         changed[nt:nt + len(deps)] = changed[deps]
         return np.where(cross, slot[kk], kk)
 
+    upstream = {flip: _upstream(off_i, off_j, w, kk, rev_i ^ flip, rev_j ^ flip) for flip in {False, bool(two_way)}}
     pool = ThreadPoolExecutor(groups) if groups > 1 else None
     try:
         sweeps = 0
@@ -325,21 +401,29 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
             source = sources(sweeps)
             flip = two_way and (sweeps // 2) % 2 == 1
             ri, rj = rev_i ^ flip, rev_j ^ flip
+            if groups == 1:  # a stamp per layer pass; changes made earlier in a pass can count as seen
+                seen = upstream[flip]
+                stamps = 1 + sweeps * nt + np.arange(nt)
+            else:  # a stamp per sweep: a change in the sweep of a block's computation always counts as unseen
+                seen = np.zeros(kk.shape, np.int64)
+                stamps = np.full(nt, 1 + sweeps, np.int64)
 
-            def run(group, sweep=sweeps):
-                return _sweep_layers(*args, source, *rest, sweep, changed, computed, active[group],
-                                     layers(group, sweep), ri, rj, scratch[group])
+            def run(group, sweep=sweeps, seen=seen, stamps=stamps):
+                order = layers(group, sweep)
+                return _sweep_layers(*args, source, *rest, seen, float(tol), stamps[:len(order)], changed,
+                                     computed, order, ri, rj, flags[group], scratch[group])
 
-            n_run = sum(map(run, range(groups)) if pool is None else pool.map(run, range(groups)))
-            if n_run == 0:
+            n_blocks = sum(map(run, range(groups)) if pool is None else pool.map(run, range(groups)))
+            if n_blocks == 0:
                 break
             sweeps += 1
             if progress is not None:
-                progress(sweeps, n_run, nt * nbx * nby)
+                progress(sweeps, n_blocks, nt * nbx * nby)
     finally:
         if pool is not None:
             pool.shutdown()
-    phi[:] = work[:nt]
+    if work is not phi:
+        phi[:] = work[:nt]
     return sweeps
 
 
