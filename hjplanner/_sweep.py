@@ -93,20 +93,76 @@ def _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad,
 
 
 @njit(cache=True, nogil=True)
-def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i, rev_j, pad, qi, qj, seen, tol,
-                  stamp, changed, computed, turn, scratch):
-    """One Gauss-Seidel pass over layer ``k`` of the padded array, block by block; returns the blocks computed.
+def _straight_pass(lay, scratch, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straight, s_bit, s_di, s_dj, s_w, s_cost,
+                   s_inv, tol):
+    """Gauss-Seidel update of the nodes ``[i0, i1) x [j0, j1)`` of one layer ``lay`` (padded), in their order.
+
+    A node gets the smaller of its value, ``scratch`` (the turning minimum)
+    and the candidates of the straight stencils s set in its bitmask ``ad``
+    (bit ``s_bit[s]``), whose feet lie in this layer at offsets
+    ``(s_di[s], s_dj[s])`` with weights ``s_w[s]``.  The parameters of the
+    first two stencils are held in locals for the whole pass.  Returns
+    whether some node decreased by more than ``tol``.
+    """
+    bit0, di0, dj0, cst0, inv0 = s_bit[0], s_di[0], s_dj[0], s_cost[0], s_inv[0]
+    w00, w01, w02, w03 = s_w[0, 0], s_w[0, 1], s_w[0, 2], s_w[0, 3]
+    bit1, di1, dj1, cst1, inv1 = s_bit[1], s_di[1], s_dj[1], s_cost[1], s_inv[1]
+    w10, w11, w12, w13 = s_w[1, 0], s_w[1, 1], s_w[1, 2], s_w[1, 3]
+    moved = False
+    for p in range(i1 - i0):
+        i = i1 - 1 - p if rev_i else i0 + p
+        ip = i + pad
+        a0, a1 = ip + di0, ip + di1
+        for q in range(j1 - j0):
+            j = j1 - 1 - q if rev_j else j0 + q
+            bits = ad[i, j]
+            if bits == 0:
+                continue
+            jp = j + pad
+            best = scratch[i, j]
+            if bits & bit0:
+                b = jp + dj0
+                best = min(best, (cst0 + w00 * lay[a0, b] + w01 * lay[a0, b + 1] + w02 * lay[a0 + 1, b]
+                                  + w03 * lay[a0 + 1, b + 1]) * inv0)
+            if bits & bit1:
+                b = jp + dj1
+                best = min(best, (cst1 + w10 * lay[a1, b] + w11 * lay[a1, b + 1] + w12 * lay[a1 + 1, b]
+                                  + w13 * lay[a1 + 1, b + 1]) * inv1)
+            for s in range(2, n_straight):
+                if bits & s_bit[s]:
+                    a, b = ip + s_di[s], jp + s_dj[s]
+                    best = min(best, (s_cost[s] + s_w[s, 0] * lay[a, b] + s_w[s, 1] * lay[a, b + 1]
+                                      + s_w[s, 2] * lay[a + 1, b] + s_w[s, 3] * lay[a + 1, b + 1]) * s_inv[s])
+            old = lay[ip, jp]
+            # Candidates that touched BIG stay unreached (BIG) rather than
+            # creeping down geometrically through astronomically large values.
+            if best < old and best < UNREACHABLE:
+                lay[ip, jp] = best
+                if old - best > tol:
+                    moved = True
+    return moved
+
+
+@njit(cache=True, nogil=True)
+def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i, rev_j, pad, qi, qj, self_seen,
+                  tol, clock, fixed, changed, computed, layer_changed, turn, scratch):
+    """One Gauss-Seidel pass over layer ``k`` of the padded array, block by block.
 
     Candidate of stencil c, if its arc is clear of the walls (bit c of
     ``adm``): ``(cost + Σ_ab w_ab φ_foot,ab) * inv_self`` where a weight on
     the node itself (straight steps shorter than the cell diagonal) is moved
     to the left-hand side.  The foot cells of stencil c from a block lie in
     the 2 x 2 blocks from ``(bi + qi[k, c], bj + qj[k, c])`` of layer
-    ``src[k, c]``.  A block is computed only if one of them changed at a
-    stamp ``>= computed + seen[k, c]`` (``seen`` is 1 where a change with
-    the block's own stamp was made before the block read it), and then
-    gets ``computed[k, bi, bj] = stamp`` -- and ``changed[k, bi, bj] = stamp``
-    where some node decreased by more than ``tol``.
+    ``src[k, c]``.  A block is computed only if one of them changed after
+    the block last read it (``changed > computed``).  Each computed block
+    takes the stamp ``t = 2 * clock`` (the clock counts computed blocks),
+    or ``t = fixed`` if ``fixed`` > 0 (one stamp for a whole sweep), and
+    gets ``changed[k, bi, bj] = layer_changed[k] = t`` where some node
+    decreased by more than ``tol``, and ``computed[k, bi, bj] = t`` -- or
+    ``t - 1`` when a change of the block itself may have come after a node
+    read it (``self_seen`` false: a straight foot not upstream; always with
+    ``fixed``), so that it is computed again.  Returns the blocks computed
+    and the clock.
 
     The blocks are visited row by row in the order of the nodes (``rev_i``,
     ``rev_j``), and the nodes of a block in that order too: a node whose
@@ -129,17 +185,28 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev
         if kk[k, c] == k:
             straight[n_straight] = c
             n_straight += 1
+    s_bit = np.zeros(max(n_straight, 2), np.uint32)  # at least two entries: bit 0 means no such stencil
+    s_di = np.zeros(max(n_straight, 2), np.int64)
+    s_dj = np.zeros(max(n_straight, 2), np.int64)
+    s_w = np.zeros((max(n_straight, 2), 4))
+    s_cost = np.zeros(max(n_straight, 2))
+    s_inv = np.zeros(max(n_straight, 2))
+    for s in range(n_straight):
+        c = straight[s]
+        s_bit[s] = np.uint32(1) << np.uint32(c)
+        s_di[s], s_dj[s], s_cost[s], s_inv[s] = off_i[k, c], off_j[k, c], cost[k, c], inv_self[k, c]
+        s_w[s] = w[k, c]
+    lay, ad = phi[k], adm[k]
     n_blocks = 0
     for pb in range(nbx):
         bi = nbx - 1 - pb if rev_i else pb
         i0, i1 = bi * BLOCK, min(bi * BLOCK + BLOCK, nx)
         any_turn = False
         for bj in range(nby):
-            since = computed[k, bi, bj]
+            since = computed[k, bi, bj] + 1
             flag = False
             for c in range(nc):
-                if kk[k, c] != k and _dep_changed(changed, src[k, c], bi + qi[k, c], bj + qj[k, c],
-                                                  since + seen[k, c]):
+                if kk[k, c] != k and _dep_changed(changed, src[k, c], bi + qi[k, c], bj + qj[k, c], since):
                     flag = True
                     break
             turn[bj] = flag
@@ -160,11 +227,11 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev
             bj = nby - 1 - qb if rev_j else qb
             j0, j1 = bj * BLOCK, min(bj * BLOCK + BLOCK, ny)
             if not turn[bj]:
-                since = computed[k, bi, bj]
+                since = computed[k, bi, bj] + 1
                 flag = False
                 for s in range(n_straight):
                     c = straight[s]
-                    if _dep_changed(changed, k, bi + qi[k, c], bj + qj[k, c], since + seen[k, c]):
+                    if _dep_changed(changed, k, bi + qi[k, c], bj + qj[k, c], since):
                         flag = True
                         break
                 if not flag:
@@ -172,39 +239,14 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev
                 _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, i0, i1, j0, j1,
                              scratch)
             n_blocks += 1
-            computed[k, bi, bj] = stamp
-            for p in range(i0, i1):
-                i = i1 - 1 - (p - i0) if rev_i else p
-                ip = i + pad
-                for q in range(j0, j1):
-                    j = j1 - 1 - (q - j0) if rev_j else q
-                    if adm[k, i, j] == 0:
-                        continue
-                    jp = j + pad
-                    best = scratch[i, j]
-                    bits = adm[k, i, j]
-                    for s in range(n_straight):
-                        c = straight[s]
-                        if (bits >> c) & 1:
-                            best = min(best, _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost))
-                    old = phi[k, ip, jp]
-                    # Candidates that touched BIG stay unreached (BIG) rather than
-                    # creeping down geometrically through astronomically large values.
-                    if best < old and best < UNREACHABLE:
-                        phi[k, ip, jp] = best
-                        if old - best > tol:
-                            changed[k, bi, bj] = stamp
-    return n_blocks
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost):
-    """Value of stencil c at padded node (ip, jp) of layer k: cost plus the bilinear φ at its foot."""
-    kc = kk[k, c]
-    a = ip + off_i[k, c]
-    b = jp + off_j[k, c]
-    return (cost[k, c] + w[k, c, 0] * phi[kc, a, b] + w[k, c, 1] * phi[kc, a, b + 1]
-            + w[k, c, 2] * phi[kc, a + 1, b] + w[k, c, 3] * phi[kc, a + 1, b + 1]) * inv_self[k, c]
+            clock += 1
+            stamp = fixed if fixed > 0 else 2 * clock
+            computed[k, bi, bj] = stamp if self_seen and fixed <= 0 else stamp - 1
+            if _straight_pass(lay, scratch, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straight, s_bit, s_di, s_dj, s_w,
+                              s_cost, s_inv, tol):
+                changed[k, bi, bj] = stamp
+                layer_changed[k] = stamp
+    return n_blocks, clock
 
 
 @njit(cache=True, nogil=True)
@@ -287,19 +329,36 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
 
 
 @njit(cache=True, nogil=True)
-def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, qi, qj, seen, tol, stamps, changed,
-                  computed, order, rev_i, rev_j, turn, scratch):
-    """Sweep the layers in ``order``, layer ``order[p]`` with stamp ``stamps[p]``; returns the blocks computed."""
+def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, qi, qj, self_seen, tol, clock, fixed,
+                  changed, computed, layer_changed, layer_pass, skip, order, rev_i, rev_j, turn, scratch):
+    """Sweep the layers in ``order`` (:func:`_update_layer`); returns the blocks computed and the clock.
+
+    ``layer_changed[k]`` is the stamp of the last change in layer k and
+    ``layer_pass[k]`` the clock's stamp when its last pass began.  With
+    ``skip``, a layer none of whose source layers (itself included) changed
+    since then is passed over without looking at its blocks: each of them
+    has read every change it depends on.
+    """
     n_blocks = 0
     for p in range(order.shape[0]):
         k = order[p]
-        n_blocks += _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i[k], rev_j[k], pad,
-                                  qi, qj, seen, tol, stamps[p], changed, computed, turn, scratch)
-    return n_blocks
+        if skip:
+            idle = True
+            for c in range(kk.shape[1]):
+                if layer_changed[src[k, c]] > layer_pass[k]:
+                    idle = False
+            layer_pass[k] = 2 * clock
+            if idle:
+                continue
+        n, clock = _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i[k], rev_j[k], pad,
+                                 qi, qj, self_seen[k], tol, clock, fixed, changed, computed, layer_changed, turn,
+                                 scratch)
+        n_blocks += n
+    return n_blocks, clock
 
 
 def _upstream(off_i, off_j, w, kk, rev_i, rev_j):
-    """``seen`` of :func:`_update_layer`: 1 for the straight stencils whose feet all lie upstream, 0 otherwise.
+    """Per layer: whether the feet of all its straight stencils lie upstream in the order of the nodes.
 
     A foot corner ``(di, dj)`` with a positive weight is upstream when each
     offset is 0 or points against the order of the nodes in its coordinate,
@@ -312,7 +371,7 @@ def _upstream(off_i, off_j, w, kk, rev_i, rev_j):
     up_i = (di == 0) | ((di > 0) == np.asarray(rev_i, bool)[:, None, None])
     up_j = (dj == 0) | ((dj > 0) == np.asarray(rev_j, bool)[:, None, None])
     ok = np.all((w <= 0) | (up_i & up_j), axis=-1)
-    return ((kk == np.arange(nt)[:, None]) & ok).astype(np.int64)
+    return np.all(ok | (kk != np.arange(nt)[:, None]), axis=1)
 
 
 def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, tol, max_sweeps, nthreads,
@@ -340,14 +399,14 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     whose feet lie behind the node, are resolved in one pass as well.
 
     Work is tracked in (x, y) blocks of :data:`BLOCK` nodes of each layer,
-    with stamps: every layer pass gets a larger stamp than the previous one
-    (with 2 threads, every sweep), a block records the stamp of its last
-    computation and of its last change by more than ``tol``, and it is
-    computed again only if a block holding the feet of one of its stencils
-    changed after it read them.  Blocks that never held a finite value have
-    no stamp, so the sweeps skip the region the front has not reached, and
-    converged regions cost nothing in later sweeps.  Returns the number of
-    sweeps done.
+    with stamps: every block computation gets a larger stamp than the
+    previous one (with 2 threads, every sweep gets one), a block records the
+    stamp of its last computation and of its last change by more than
+    ``tol``, and it is computed again only if a block holding the feet of
+    one of its stencils changed after it read them.  Blocks that never held
+    a finite value have no stamp, so the sweeps skip the region the front
+    has not reached, and converged regions cost nothing in later sweeps.
+    Returns the number of sweeps done.
     """
     nt = phi.shape[0]
     nx, ny = phi.shape[1] - 2 * pad, phi.shape[2] - 2 * pad
@@ -367,6 +426,9 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     k, i, j = np.nonzero(phi[:, pad:pad + nx, pad:pad + ny] < UNREACHABLE)
     changed[k, i // BLOCK, j // BLOCK] = 0  # the initial data
     computed = np.full((nt, nbx, nby), -1, np.int64)  # stamp of the last computation
+    layer_changed = changed[:nt].max(axis=(1, 2))
+    layer_pass = np.full(nt, -1, np.int64)
+    clock = 0
     flags = np.zeros((groups, nby), np.bool_)
     scratch = np.empty((groups, nx, ny))
     args = (work, bc, off_i, off_j, w, inv_self, kk)
@@ -401,19 +463,19 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
             source = sources(sweeps)
             flip = two_way and (sweeps // 2) % 2 == 1
             ri, rj = rev_i ^ flip, rev_j ^ flip
-            if groups == 1:  # a stamp per layer pass; changes made earlier in a pass can count as seen
-                seen = upstream[flip]
-                stamps = 1 + sweeps * nt + np.arange(nt)
-            else:  # a stamp per sweep: a change in the sweep of a block's computation always counts as unseen
-                seen = np.zeros(kk.shape, np.int64)
-                stamps = np.full(nt, 1 + sweeps, np.int64)
+            if groups == 1:  # a stamp per block computation
+                fixed = 0
+            else:  # a stamp per sweep: a change in the sweep of a block's computation counts as unseen
+                fixed = 2 * (sweeps + 1)
 
-            def run(group, sweep=sweeps, seen=seen, stamps=stamps):
-                order = layers(group, sweep)
-                return _sweep_layers(*args, source, *rest, seen, float(tol), stamps[:len(order)], changed,
-                                     computed, order, ri, rj, flags[group], scratch[group])
+            def run(group, sweep=sweeps, fixed=fixed, clock=clock):
+                return _sweep_layers(*args, source, *rest, upstream[flip], float(tol), clock, fixed, changed,
+                                     computed, layer_changed, layer_pass, groups == 1, layers(group, sweep), ri, rj,
+                                     flags[group], scratch[group])
 
-            n_blocks = sum(map(run, range(groups)) if pool is None else pool.map(run, range(groups)))
+            results = list(map(run, range(groups)) if pool is None else pool.map(run, range(groups)))
+            n_blocks = sum(n for n, _ in results)
+            clock = max(c for _, c in results)
             if n_blocks == 0:
                 break
             sweeps += 1
