@@ -30,6 +30,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 from numba import njit
 
+from ._motion import _arc_end, _arc_is_clear, _sample_count
+
 INF = np.inf
 # Stand-in for +inf inside the sweeps.  Blocked and not-yet-reached nodes hold
 # BIG; a bilinear weight is either 0 or above ~1e-18 (fractions are snapped),
@@ -41,91 +43,210 @@ UNREACHABLE = 1e50
 
 BLOCK = 8  # side of the (x, y) blocks whose changes are tracked, in nodes
 GROUPS = 2  # groups of layers swept independently within a sweep (see solve_sweeps)
+NEVER = -(1 << 62)  # stamp of a block that never held a finite value
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _dep_changed(changed, kc, e0, f0, since):
+    """Whether one of the 2 x 2 blocks from (e0, f0) of layer kc changed at or after stamp ``since``."""
+    nbx, nby = changed.shape[1], changed.shape[2]
+    for e in range(max(e0, 0), min(e0 + 2, nbx)):
+        for f in range(max(f0, 0), min(f0 + 2, nby)):
+            if changed[kc, e, f] >= since:
+                return True
+    return False
 
 
 @njit(cache=True, nogil=True)
-def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, active, tol, sweep,
-                  changed, scratch):
-    """One Gauss-Seidel pass over layer ``k`` of the padded array, only in ``active`` blocks.
+def _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, i0, i1, j0, j1, scratch):
+    """``scratch[i, j]``: the smaller of ``bc`` and the turning stencils' candidates, on ``[i0, i1) x [j0, j1)``.
+
+    The turning stencils read other layers only (``src``: the layer, or its
+    snapshot, that stencil c of layer k reads), which do not change during a
+    layer's pass, so they are taken first, a row at a time in loops the
+    compiler vectorises.
+    """
+    nc = off_i.shape[1]
+    m = j1 - j0
+    for i in range(i0, i1):
+        ip = i + pad
+        # Row slices indexed from 0: the compiler then vectorises the loop over j.
+        sc = scratch[i, j0:j1]
+        sc[:] = bc[k, i, j0:j1]
+        ad = adm[k, i, j0:j1]
+        for c in range(nc):
+            if kk[k, c] == k:
+                continue
+            kc = src[k, c]
+            a = ip + off_i[k, c]
+            b0 = pad + off_j[k, c] + j0
+            w0, w1, w2, w3 = w[k, c, 0], w[k, c, 1], w[k, c, 2], w[k, c, 3]
+            cst, inv = cost[k, c], inv_self[k, c]
+            bit = np.uint32(1) << np.uint32(c)
+            r0 = phi[kc, a, b0:b0 + m + 1]
+            r1 = phi[kc, a + 1, b0:b0 + m + 1]
+            for j in range(m):
+                value = (cst + w0 * r0[j] + w1 * r0[j + 1] + w2 * r1[j] + w3 * r1[j + 1]) * inv
+                if (ad[j] & bit) == 0:
+                    value = INF
+                sc[j] = min(sc[j], value)
+
+
+@njit(cache=True, nogil=True)
+def _straight_pass(lay, scratch, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straight, s_bit, s_di, s_dj, s_w, s_cost,
+                   s_inv, tol):
+    """Gauss-Seidel update of the nodes ``[i0, i1) x [j0, j1)`` of one layer ``lay`` (padded), in their order.
+
+    A node gets the smaller of its value, ``scratch`` (the turning minimum)
+    and the candidates of the straight stencils s set in its bitmask ``ad``
+    (bit ``s_bit[s]``), whose feet lie in this layer at offsets
+    ``(s_di[s], s_dj[s])`` with weights ``s_w[s]``.  The parameters of the
+    first two stencils are held in locals for the whole pass.  Returns
+    whether some node decreased by more than ``tol``.
+    """
+    bit0, di0, dj0, cst0, inv0 = s_bit[0], s_di[0], s_dj[0], s_cost[0], s_inv[0]
+    w00, w01, w02, w03 = s_w[0, 0], s_w[0, 1], s_w[0, 2], s_w[0, 3]
+    bit1, di1, dj1, cst1, inv1 = s_bit[1], s_di[1], s_dj[1], s_cost[1], s_inv[1]
+    w10, w11, w12, w13 = s_w[1, 0], s_w[1, 1], s_w[1, 2], s_w[1, 3]
+    moved = False
+    for p in range(i1 - i0):
+        i = i1 - 1 - p if rev_i else i0 + p
+        ip = i + pad
+        a0, a1 = ip + di0, ip + di1
+        for q in range(j1 - j0):
+            j = j1 - 1 - q if rev_j else j0 + q
+            bits = ad[i, j]
+            if bits == 0:
+                continue
+            jp = j + pad
+            best = scratch[i, j]
+            if bits & bit0:
+                b = jp + dj0
+                best = min(best, (cst0 + w00 * lay[a0, b] + w01 * lay[a0, b + 1] + w02 * lay[a0 + 1, b]
+                                  + w03 * lay[a0 + 1, b + 1]) * inv0)
+            if bits & bit1:
+                b = jp + dj1
+                best = min(best, (cst1 + w10 * lay[a1, b] + w11 * lay[a1, b + 1] + w12 * lay[a1 + 1, b]
+                                  + w13 * lay[a1 + 1, b + 1]) * inv1)
+            for s in range(2, n_straight):
+                if bits & s_bit[s]:
+                    a, b = ip + s_di[s], jp + s_dj[s]
+                    best = min(best, (s_cost[s] + s_w[s, 0] * lay[a, b] + s_w[s, 1] * lay[a, b + 1]
+                                      + s_w[s, 2] * lay[a + 1, b] + s_w[s, 3] * lay[a + 1, b + 1]) * s_inv[s])
+            old = lay[ip, jp]
+            # Candidates that touched BIG stay unreached (BIG) rather than
+            # creeping down geometrically through astronomically large values.
+            if best < old and best < UNREACHABLE:
+                lay[ip, jp] = best
+                if old - best > tol:
+                    moved = True
+    return moved
+
+
+@njit(cache=True, nogil=True)
+def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i, rev_j, pad, qi, qj, self_seen,
+                  tol, clock, fixed, changed, computed, layer_changed, turn, scratch):
+    """One Gauss-Seidel pass over layer ``k`` of the padded array, block by block.
 
     Candidate of stencil c, if its arc is clear of the walls (bit c of
     ``adm``): ``(cost + Σ_ab w_ab φ_foot,ab) * inv_self`` where a weight on
     the node itself (straight steps shorter than the cell diagonal) is moved
-    to the left-hand side.  Sets ``changed[k, bi, bj] = sweep`` where some
-    node decreased by more than ``tol``.
+    to the left-hand side.  The foot cells of stencil c from a block lie in
+    the 2 x 2 blocks from ``(bi + qi[k, c], bj + qj[k, c])`` of layer
+    ``src[k, c]``.  A block is computed only if one of them changed after
+    the block last read it (``changed > computed``).  Each computed block
+    takes the stamp ``t = 2 * clock`` (the clock counts computed blocks),
+    or ``t = fixed`` if ``fixed`` > 0 (one stamp for a whole sweep), and
+    gets ``changed[k, bi, bj] = layer_changed[k] = t`` where some node
+    decreased by more than ``tol``, and ``computed[k, bi, bj] = t`` -- or
+    ``t - 1`` when a change of the block itself may have come after a node
+    read it (``self_seen`` false: a straight foot not upstream; always with
+    ``fixed``), so that it is computed again.  Returns the blocks computed
+    and the clock.
 
-    The turning stencils read other layers only, which do not change during
-    this pass: their minimum (with ``bc``) is taken first, a whole row of
-    active blocks at a time in loops the compiler vectorises, into
-    ``scratch`` (nx, ny).  The straight stencils, whose feet lie in this
-    layer, follow node by node in the Gauss-Seidel order.  The minimum being
-    exact, the result is the same as taking every candidate node by node.
+    The blocks are visited row by row in the order of the nodes (``rev_i``,
+    ``rev_j``), and the nodes of a block in that order too: a node whose
+    straight feet all lie upstream in both coordinates reads them after
+    their update, as in a pass over the whole layer.  Whether a block depends
+    on a change of this layer is decided when the pass reaches it, so a
+    change travels along straight motion across any number of blocks in one
+    pass.  The turning minimum (:func:`_turning_min`) of the blocks that
+    depend on another layer's change is taken a row of blocks at a time, the
+    straight stencils follow node by node.  The minimum being exact, the
+    result is the same as taking every candidate node by node.
     """
     nt, nxp, nyp = phi.shape
     nx, ny = nxp - 2 * pad, nyp - 2 * pad
     nc = off_i.shape[1]
-    nby = active.shape[1]
-    for i in range(nx):
-        bi = i // BLOCK
-        ip = i + pad
-        bj = 0
-        while bj < nby:
-            if not active[bi, bj]:
-                bj += 1
-                continue
-            run = bj
-            while run < nby and active[bi, run]:
-                run += 1
-            j0, j1 = bj * BLOCK, min(run * BLOCK, ny)
-            bj = run
-            for j in range(j0, j1):
-                scratch[i, j] = bc[k, i, j]
+    nbx, nby = computed.shape[1], computed.shape[2]
+    n_straight = 0
+    straight = np.empty(nc, np.int64)
+    for c in range(nc):
+        if kk[k, c] == k:
+            straight[n_straight] = c
+            n_straight += 1
+    s_bit = np.zeros(max(n_straight, 2), np.uint32)  # at least two entries: bit 0 means no such stencil
+    s_di = np.zeros(max(n_straight, 2), np.int64)
+    s_dj = np.zeros(max(n_straight, 2), np.int64)
+    s_w = np.zeros((max(n_straight, 2), 4))
+    s_cost = np.zeros(max(n_straight, 2))
+    s_inv = np.zeros(max(n_straight, 2))
+    for s in range(n_straight):
+        c = straight[s]
+        s_bit[s] = np.uint32(1) << np.uint32(c)
+        s_di[s], s_dj[s], s_cost[s], s_inv[s] = off_i[k, c], off_j[k, c], cost[k, c], inv_self[k, c]
+        s_w[s] = w[k, c]
+    lay, ad = phi[k], adm[k]
+    n_blocks = 0
+    for pb in range(nbx):
+        bi = nbx - 1 - pb if rev_i else pb
+        i0, i1 = bi * BLOCK, min(bi * BLOCK + BLOCK, nx)
+        any_turn = False
+        for bj in range(nby):
+            since = computed[k, bi, bj] + 1
+            flag = False
             for c in range(nc):
-                kc = kk[k, c]
-                if kc == k:
+                if kk[k, c] != k and _dep_changed(changed, src[k, c], bi + qi[k, c], bj + qj[k, c], since):
+                    flag = True
+                    break
+            turn[bj] = flag
+            any_turn = any_turn or flag
+        if any_turn:
+            bj = 0
+            while bj < nby:
+                if not turn[bj]:
+                    bj += 1
                     continue
-                a = ip + off_i[k, c]
-                b0 = pad + off_j[k, c]
-                w0, w1, w2, w3 = w[k, c, 0], w[k, c, 1], w[k, c, 2], w[k, c, 3]
-                cst, inv = cost[k, c], inv_self[k, c]
-                bit = np.uint32(1) << np.uint32(c)
-                for j in range(j0, j1):
-                    b = b0 + j
-                    value = (cst + w0 * phi[kc, a, b] + w1 * phi[kc, a, b + 1] + w2 * phi[kc, a + 1, b]
-                             + w3 * phi[kc, a + 1, b + 1]) * inv
-                    if (adm[k, i, j] & bit) != 0 and value < scratch[i, j]:
-                        scratch[i, j] = value
-    for p in range(nx):
-        i = nx - 1 - p if rev_i else p
-        bi = i // BLOCK
-        for q in range(ny):
-            j = ny - 1 - q if rev_j else q
-            bj = j // BLOCK
-            bits = adm[k, i, j]
-            if bits == 0 or not active[bi, bj]:
-                continue
-            ip, jp = i + pad, j + pad
-            best = scratch[i, j]
-            for c in range(nc):
-                if kk[k, c] == k and (bits >> c) & 1:
-                    best = min(best, _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost))
-            old = phi[k, ip, jp]
-            # Candidates that touched BIG stay unreached (BIG) rather than
-            # creeping down geometrically through astronomically large values.
-            if best < old and best < UNREACHABLE:
-                phi[k, ip, jp] = best
-                if old - best > tol:
-                    changed[k, bi, bj] = sweep
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _candidate(phi, k, c, ip, jp, off_i, off_j, w, inv_self, kk, cost):
-    """Value of stencil c at padded node (ip, jp) of layer k: cost plus the bilinear φ at its foot."""
-    kc = kk[k, c]
-    a = ip + off_i[k, c]
-    b = jp + off_j[k, c]
-    return (cost[k, c] + w[k, c, 0] * phi[kc, a, b] + w[k, c, 1] * phi[kc, a, b + 1]
-            + w[k, c, 2] * phi[kc, a + 1, b] + w[k, c, 3] * phi[kc, a + 1, b + 1]) * inv_self[k, c]
+                run = bj
+                while run < nby and turn[run]:
+                    run += 1
+                _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, i0, i1, bj * BLOCK,
+                             min(run * BLOCK, ny), scratch)
+                bj = run
+        for qb in range(nby):
+            bj = nby - 1 - qb if rev_j else qb
+            j0, j1 = bj * BLOCK, min(bj * BLOCK + BLOCK, ny)
+            if not turn[bj]:
+                since = computed[k, bi, bj] + 1
+                flag = False
+                for s in range(n_straight):
+                    c = straight[s]
+                    if _dep_changed(changed, k, bi + qi[k, c], bj + qj[k, c], since):
+                        flag = True
+                        break
+                if not flag:
+                    continue
+                _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, i0, i1, j0, j1,
+                             scratch)
+            n_blocks += 1
+            clock += 1
+            stamp = fixed if fixed > 0 else 2 * clock
+            computed[k, bi, bj] = stamp if self_seen and fixed <= 0 else stamp - 1
+            if _straight_pass(lay, scratch, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straight, s_bit, s_di, s_dj, s_w,
+                              s_cost, s_inv, tol):
+                changed[k, bi, bj] = stamp
+                layer_changed[k] = stamp
+    return n_blocks, clock
 
 
 @njit(cache=True, nogil=True)
@@ -135,15 +256,23 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
     Bit c of ``adm[k, i, j]`` is set when the arc of control c from the free
     node (i, j) at heading k stays at the clearance: either the node is
     farther than ``clearance + reach[c]`` from every wall (the arc is
-    shorter than ``reach[c]``), or every sample m of the arc, in cell
-    ``(i + ci, j + cj)`` at ``corner_dist`` from its corners, has a
-    certified wall distance of at least ``margin[c]``.
+    shorter than ``reach[c]``), or its middle sample has a certified wall
+    distance of at least ``margin[c]`` plus the arc length from it to the
+    farther end (the whole arc lies in that disk), or every sample m of
+    the arc, in cell ``(i + ci, j + cj)`` at ``corner_dist`` from its
+    corners, has a certified wall distance of at least ``margin[c]`` or
+    lies within the disk of radius ``bound - margin[c]`` around an earlier
+    sample of certified distance ``bound`` (a point of that disk is at
+    least ``margin[c]`` from every wall, the wall distance being
+    1-Lipschitz); samples in such disks are skipped.
     """
     nt, nc, nm = ci.shape
     nx, ny = distance.shape
     adm = np.zeros((nt, nx, ny), np.uint32)
     every = np.uint32((1 << nc) - 1)
     far = clearance + reach.max()
+    mid = (nm - 1) // 2
+    half = (nm - 1 - mid) / (nm - 1)  # arc length from the middle sample to the farther end / reach
     for i in range(nx):
         for j in range(ny):
             if not free[i, j]:
@@ -158,8 +287,21 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
                 for c in range(nc):
                     ok = d0 >= clearance + reach[c]
                     if not ok:
+                        a = i + ci[k, c, mid]
+                        b = j + cj[k, c, mid]
+                        if a >= 0 and b >= 0 and a <= nx - 2 and b <= ny - 2:
+                            bound = -np.inf
+                            for corner in range(4):
+                                value = distance[a + corner // 2, b + corner % 2] - corner_dist[k, c, mid, corner]
+                                if value > bound:
+                                    bound = value
+                            ok = bound >= margin[c] + reach[c] * half
+                    if not ok:
                         ok = True
-                        for m in range(nm):
+                        step = reach[c] / (nm - 1)  # arc length between samples
+                        covered = -1.0  # samples up to this index lie in the certified disk of a checked one
+                        m = 0
+                        while m < nm:
                             a = i + ci[k, c, m]
                             b = j + cj[k, c, m]
                             if a < 0 or b < 0 or a > nx - 2 or b > ny - 2:
@@ -171,10 +313,15 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
                                 if value > bound:
                                     bound = value
                             if bound < margin[c]:
+                                if m <= covered:
+                                    m += 1
+                                    continue
                                 ok = False
                                 break
                             if bound - margin[c] >= reach[c] * (nm - 1 - m) / (nm - 1):
                                 break  # the rest of the arc lies in the certified disk around this sample
+                            covered = max(covered, m + (bound - margin[c]) / step)
+                            m += max(1, int((bound - margin[c]) / step))
                     if ok:
                         bits |= np.uint32(1) << np.uint32(c)
                 adm[k, i, j] = bits
@@ -182,48 +329,49 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
 
 
 @njit(cache=True, nogil=True)
-def _layer_is_active(k, kk, reach, changed, computed, active):
-    """Mark blocks of layer k that depend on a block changed since they were computed."""
-    nt, nbx, nby = changed.shape
-    nc = kk.shape[1]
-    n_active = 0
-    for bi in range(nbx):
-        for bj in range(nby):
-            since = computed[k, bi, bj]
-            flag = False
-            for c in range(nc + 1):
-                kc = k if c == nc else kk[k, c]
-                for ei in range(max(bi - reach, 0), min(bi + reach + 1, nbx)):
-                    for ej in range(max(bj - reach, 0), min(bj + reach + 1, nby)):
-                        if changed[kc, ei, ej] >= since:
-                            flag = True
-                            break
-                    if flag:
-                        break
-                if flag:
-                    break
-            active[bi, bj] = flag
-            if flag:
-                n_active += 1
-    return n_active
+def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, qi, qj, self_seen, tol, clock, fixed,
+                  changed, computed, layer_changed, layer_pass, skip, order, rev_i, rev_j, turn, scratch):
+    """Sweep the layers in ``order`` (:func:`_update_layer`); returns the blocks computed and the clock.
+
+    ``layer_changed[k]`` is the stamp of the last change in layer k and
+    ``layer_pass[k]`` the clock's stamp when its last pass began.  With
+    ``skip``, a layer none of whose source layers (itself included) changed
+    since then is passed over without looking at its blocks: each of them
+    has read every change it depends on.
+    """
+    n_blocks = 0
+    for p in range(order.shape[0]):
+        k = order[p]
+        if skip:
+            idle = True
+            for c in range(kk.shape[1]):
+                if layer_changed[src[k, c]] > layer_pass[k]:
+                    idle = False
+            layer_pass[k] = 2 * clock
+            if idle:
+                continue
+        n, clock = _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i[k], rev_j[k], pad,
+                                 qi, qj, self_seen[k], tol, clock, fixed, changed, computed, layer_changed, turn,
+                                 scratch)
+        n_blocks += n
+    return n_blocks, clock
 
 
-@njit(cache=True, nogil=True)
-def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, pad, reach, tol, sweep, changed, computed,
-                  active, order, rev_i, rev_j, scratch):
-    """Sweep the layers in ``order``; returns how many layers had active blocks."""
-    n_run = 0
-    for k in order:
-        if _layer_is_active(k, kk, reach, changed, computed, active) == 0:
-            continue
-        n_run += 1
-        _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, cost, adm, rev_i[k], rev_j[k], pad, active, tol,
-                      sweep, changed, scratch)
-        for bi in range(active.shape[0]):
-            for bj in range(active.shape[1]):
-                if active[bi, bj]:
-                    computed[k, bi, bj] = sweep
-    return n_run
+def _upstream(off_i, off_j, w, kk, rev_i, rev_j):
+    """Per layer: whether the feet of all its straight stencils lie upstream in the order of the nodes.
+
+    A foot corner ``(di, dj)`` with a positive weight is upstream when each
+    offset is 0 or points against the order of the nodes in its coordinate,
+    so that the pass (block by block, node by node) has updated it before
+    the node reads it.
+    """
+    nt = kk.shape[0]
+    di = off_i[..., None] + np.array([0, 0, 1, 1])  # (nt, nc, 4): corners (0,0), (0,1), (1,0), (1,1)
+    dj = off_j[..., None] + np.array([0, 1, 0, 1])
+    up_i = (di == 0) | ((di > 0) == np.asarray(rev_i, bool)[:, None, None])
+    up_j = (dj == 0) | ((dj > 0) == np.asarray(rev_j, bool)[:, None, None])
+    ok = np.all((w <= 0) | (up_i & up_j), axis=-1)
+    return np.all(ok | (kk != np.arange(nt)[:, None]), axis=1)
 
 
 def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, tol, max_sweeps, nthreads,
@@ -248,28 +396,43 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     given, is called after every sweep with the sweeps done, the blocks recomputed in it
     and the number of blocks.  With reverse driving (``two_way``) the order within the layers
     also flips every other pair of sweeps, so that reverse straight steps,
-    whose feet lie behind the node, are resolved in one pass as well.  A
-    block of a layer is recomputed only if a block it depends on changed
-    since the block was last computed, so converged regions cost nothing in
-    later sweeps.  Returns the number of sweeps done.
+    whose feet lie behind the node, are resolved in one pass as well.
+
+    Work is tracked in (x, y) blocks of :data:`BLOCK` nodes of each layer,
+    with stamps: every block computation gets a larger stamp than the
+    previous one (with 2 threads, every sweep gets one), a block records the
+    stamp of its last computation and of its last change by more than
+    ``tol``, and it is computed again only if a block holding the feet of
+    one of its stencils changed after it read them.  Blocks that never held
+    a finite value have no stamp, so the sweeps skip the region the front
+    has not reached, and converged regions cost nothing in later sweeps.
+    Returns the number of sweeps done.
     """
     nt = phi.shape[0]
     nx, ny = phi.shape[1] - 2 * pad, phi.shape[2] - 2 * pad
     nbx = (nx + BLOCK - 1) // BLOCK
     nby = (ny + BLOCK - 1) // BLOCK
-    reach = (pad + BLOCK - 1) // BLOCK
+    qi, qj = off_i // BLOCK, off_j // BLOCK
     groups = max(1, min(int(nthreads), GROUPS, nt))
     turn = int(np.abs((kk - np.arange(nt)[:, None] + nt // 2) % nt - nt // 2).max())
     nsnap = 0 if groups == 1 else min(nt, 2 * groups * turn)
     # layers nt.. of `work` and `changed` hold the snapshots of the sweep
-    work = np.empty((nt + nsnap, *phi.shape[1:]))
-    work[:nt] = phi
-    changed = np.full((nt + nsnap, nbx, nby), -1, np.int64)  # sweep of the last change; -1: initial data
-    computed = np.full((nt, nbx, nby), -2, np.int64)  # sweep of the last computation
-    active = np.zeros((groups, nbx, nby), np.bool_)
+    if nsnap:
+        work = np.empty((nt + nsnap, *phi.shape[1:]))
+        work[:nt] = phi
+    else:
+        work = phi
+    changed = np.full((nt + nsnap, nbx, nby), NEVER, np.int64)  # stamp of the last change
+    k, i, j = np.nonzero(phi[:, pad:pad + nx, pad:pad + ny] < UNREACHABLE)
+    changed[k, i // BLOCK, j // BLOCK] = 0  # the initial data
+    computed = np.full((nt, nbx, nby), -1, np.int64)  # stamp of the last computation
+    layer_changed = changed[:nt].max(axis=(1, 2))
+    layer_pass = np.full(nt, -1, np.int64)
+    clock = 0
+    flags = np.zeros((groups, nby), np.bool_)
     scratch = np.empty((groups, nx, ny))
-    args = (work, bc, off_i, off_j, w, inv_self)
-    rest = (cost, adm, pad, reach, float(tol))
+    args = (work, bc, off_i, off_j, w, inv_self, kk)
+    rest = (cost, adm, pad, qi, qj)
 
     def layers(group, sweep):
         start, stop = (group * nt) // groups, ((group + 1) * nt) // groups
@@ -279,6 +442,8 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
 
     def sources(sweep):
         """``kk`` with every stencil reaching into another group redirected to a snapshot layer."""
+        if groups == 1:
+            return kk
         owner = np.empty(nt, np.int64)
         for group in range(groups):
             owner[layers(group, sweep)] = group
@@ -290,6 +455,7 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
         changed[nt:nt + len(deps)] = changed[deps]
         return np.where(cross, slot[kk], kk)
 
+    upstream = {flip: _upstream(off_i, off_j, w, kk, rev_i ^ flip, rev_j ^ flip) for flip in {False, bool(two_way)}}
     pool = ThreadPoolExecutor(groups) if groups > 1 else None
     try:
         sweeps = 0
@@ -297,21 +463,29 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
             source = sources(sweeps)
             flip = two_way and (sweeps // 2) % 2 == 1
             ri, rj = rev_i ^ flip, rev_j ^ flip
+            if groups == 1:  # a stamp per block computation
+                fixed = 0
+            else:  # a stamp per sweep: a change in the sweep of a block's computation counts as unseen
+                fixed = 2 * (sweeps + 1)
 
-            def run(group, sweep=sweeps):
-                return _sweep_layers(*args, source, *rest, sweep, changed, computed, active[group],
-                                     layers(group, sweep), ri, rj, scratch[group])
+            def run(group, sweep=sweeps, fixed=fixed, clock=clock):
+                return _sweep_layers(*args, source, *rest, upstream[flip], float(tol), clock, fixed, changed,
+                                     computed, layer_changed, layer_pass, groups == 1, layers(group, sweep), ri, rj,
+                                     flags[group], scratch[group])
 
-            n_run = sum(map(run, range(groups)) if pool is None else pool.map(run, range(groups)))
-            if n_run == 0:
+            results = list(map(run, range(groups)) if pool is None else pool.map(run, range(groups)))
+            n_blocks = sum(n for n, _ in results)
+            clock = max(c for _, c in results)
+            if n_blocks == 0:
                 break
             sweeps += 1
             if progress is not None:
-                progress(sweeps, n_run, nt * nbx * nby)
+                progress(sweeps, n_blocks, nt * nbx * nby)
     finally:
         if pool is not None:
             pool.shutdown()
-    phi[:] = work[:nt]
+    if work is not phi:
+        phi[:] = work[:nt]
     return sweeps
 
 
@@ -337,7 +511,7 @@ def interpolate(phi, free, certified, x0, y0, h, xs, ys, ths, cubic, lenient):
     node the trilinear value is used.  Poses outside the grid or not
     ``certified`` (outside free space or its clearance) give +inf.
     """
-    nt, nx, ny = phi.shape
+    nt = phi.shape[0]
     n = xs.shape[0]
     out = np.empty(n)
     dth = 2.0 * np.pi / nt
@@ -345,62 +519,147 @@ def interpolate(phi, free, certified, x0, y0, h, xs, ys, ths, cubic, lenient):
     wyc = np.empty(4)
     wtc = np.empty(4)
     for m in range(n):
-        gx = (xs[m] - x0) / h
-        gy = (ys[m] - y0) / h
-        if not (certified[m] and gx >= -1e-9 and gx <= nx - 1 + 1e-9 and gy >= -1e-9 and gy <= ny - 1 + 1e-9):
+        if not certified[m]:
             out[m] = INF
+            continue
+        out[m] = _interpolate_one(phi, free, (xs[m] - x0) / h, (ys[m] - y0) / h, (ths[m] / dth) % nt, cubic,
+                                  lenient, wxc, wyc, wtc)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _interpolate_one(phi, free, gx, gy, gt, cubic, lenient, wxc, wyc, wtc):
+    """:func:`interpolate` at grid coordinates (gx, gy, gt), gt in [0, ntheta); ``w*c`` are scratch (4,).
+
+    At a grid heading (gt an integer) only that layer is read.
+    """
+    nt, nx, ny = phi.shape
+    if not (gx >= -1e-9 and gx <= nx - 1 + 1e-9 and gy >= -1e-9 and gy <= ny - 1 + 1e-9):
+        return INF
+    i = min(max(int(np.floor(gx)), 0), nx - 2)
+    j = min(max(int(np.floor(gy)), 0), ny - 2)
+    k = int(np.floor(gt)) % nt
+    fx = gx - i
+    fy = gy - j
+    ft = gt - np.floor(gt)
+    # trilinear; with lenient, over the reached corners only
+    lin = 0.0
+    total = 0.0
+    for c in range(2):
+        wt = ft if c == 1 else 1.0 - ft
+        if wt <= 0.0:
+            continue
+        kc = (k + c) % nt
+        for a in range(2):
+            wa = fx if a == 1 else 1.0 - fx
+            for b in range(2):
+                wb = fy if b == 1 else 1.0 - fy
+                weight = wt * wa * wb
+                if weight <= 0.0:
+                    continue
+                v = phi[kc, i + a, j + b]
+                if not free[i + a, j + b] or (v == INF and not lenient):
+                    lin = INF
+                if v == INF:
+                    continue
+                if lin < INF:
+                    lin += weight * v
+                    total += weight
+    if lin == INF or total <= 0.0:
+        return INF
+    lin /= total
+    if not cubic or i < 1 or j < 1 or i > nx - 3 or j > ny - 3:
+        return lin
+    _cubic_weights(fx, wxc)
+    _cubic_weights(fy, wyc)
+    _cubic_weights(ft, wtc)
+    c0, c1 = (1, 2) if ft == 0.0 else (0, 4)  # Catmull-Rom weights at 0: (0, 1, 0, 0)
+    acc = 0.0
+    for c in range(c0, c1):
+        kc = (k + c - 1) % nt
+        for a in range(4):
+            for b in range(4):
+                v = phi[kc, i + a - 1, j + b - 1]
+                if v == INF:
+                    return lin
+                acc += wtc[c] * wxc[a] * wyc[b] * v
+    return max(acc, 0.0)
+
+
+@njit(cache=True, nogil=True)
+def arc_readings(phi, free, distance, clearance, x0, y0, h, rho, reverse, xs, ys, ths, base, steps, cubic,
+                 lenient):
+    """``base`` lowered, pose by pose, by readings along exact arcs to the nearby grid headings.
+
+    From a pose (x, y, θ) between the grid headings θ_k and θ_k+1 the car
+    can turn left to θ_k+1, ..., θ_k+steps or right to θ_k, ..., θ_k+1-steps
+    (forwards; with ``reverse`` also backwards) along an exact arc of length
+    ``s = ρ |Δθ|``, which ends at a grid heading: ``s + φ(end)`` is then an
+    upper bound of φ (the dynamic programming principle) read without
+    interpolation in θ, which smears φ across its jumps (where the target
+    passes from one side of a turning circle to the other) over a whole
+    angular step.  Only arcs certified clear of the walls at ``clearance``
+    (the samples of :func:`hjplanner._motion.arcs_are_clear`) and ending at
+    a finite reading count.  Poses where ``base`` is +inf, or at a grid
+    heading, keep it.
+
+    Parameters
+    ----------
+    phi, free, distance : numpy.ndarray
+        Node values (ntheta, nx, ny), free mask and signed wall distance (nx, ny).
+    clearance, x0, y0, h, rho : float
+        Wall clearance, grid origin, spacing and turning radius (length unit).
+    reverse : bool
+        Also backward arcs.
+    xs, ys, ths, base : numpy.ndarray
+        (n,) poses (length unit, radians) and their interpolated φ.
+    steps : int
+        Grid headings reached on each side.
+    cubic, lenient : bool
+        As in :func:`interpolate`.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) the smaller of ``base`` and the arc readings.
+    """
+    nt = phi.shape[0]
+    dth = 2.0 * np.pi / nt
+    out = base.copy()
+    wxc = np.empty(4)
+    wyc = np.empty(4)
+    wtc = np.empty(4)
+    for m in range(xs.shape[0]):
+        if out[m] == INF:
             continue
         gt = (ths[m] / dth) % nt
-        i = min(max(int(np.floor(gx)), 0), nx - 2)
-        j = min(max(int(np.floor(gy)), 0), ny - 2)
-        k = int(np.floor(gt)) % nt
-        fx = gx - i
-        fy = gy - j
-        ft = gt - np.floor(gt)
-        # trilinear; with lenient, over the reached corners only
-        lin = 0.0
-        total = 0.0
-        for c in range(2):
-            wt = ft if c == 1 else 1.0 - ft
-            kc = (k + c) % nt
-            for a in range(2):
-                wa = fx if a == 1 else 1.0 - fx
-                for b in range(2):
-                    wb = fy if b == 1 else 1.0 - fy
-                    weight = wt * wa * wb
-                    if weight <= 0.0:
+        k = int(np.floor(gt))
+        f = gt - k
+        if f == 0.0:
+            continue  # at a grid heading nothing is interpolated in θ
+        best = out[m]
+        for jj in range(1, steps + 1):
+            for side in range(2):
+                if side == 0:  # left turn forwards (right turn backwards) to heading k + jj
+                    d, u, kc = (jj - f) * dth, 1.0, (k + jj) % nt
+                else:  # right turn forwards (left turn backwards) to heading k + 1 - jj
+                    d, u, kc = (f + jj - 1) * dth, -1.0, (k + 1 - jj) % nt
+                if d <= 0.0:
+                    continue
+                s = rho * d
+                if s >= best:
+                    continue
+                npts = _sample_count(s, h)
+                need = clearance + 0.5 * (s / (npts - 1))
+                for v in (1.0, -1.0):
+                    if v < 0 and not reverse:
                         continue
-                    v = phi[kc, i + a, j + b]
-                    if not free[i + a, j + b] or (v == INF and not lenient):
-                        lin = INF
-                    if v == INF:
+                    ex, ey, _ = _arc_end(xs[m], ys[m], ths[m], u * v, v, s, rho)
+                    if not _arc_is_clear(distance, x0, y0, h, need, xs[m], ys[m], ths[m], u * v, v, s, npts, rho):
                         continue
-                    if lin < INF:
-                        lin += weight * v
-                        total += weight
-        if lin == INF or total <= 0.0:
-            out[m] = INF
-            continue
-        lin /= total
-        if not cubic or i < 1 or j < 1 or i > nx - 3 or j > ny - 3:
-            out[m] = lin
-            continue
-        _cubic_weights(fx, wxc)
-        _cubic_weights(fy, wyc)
-        _cubic_weights(ft, wtc)
-        acc = 0.0
-        for c in range(4):
-            kc = (k + c - 1) % nt
-            for a in range(4):
-                for b in range(4):
-                    v = phi[kc, i + a - 1, j + b - 1]
-                    if v == INF:
-                        acc = INF
-                        break
-                    acc += wtc[c] * wxc[a] * wyc[b] * v
-                if acc == INF:
-                    break
-            if acc == INF:
-                break
-        out[m] = lin if acc == INF else max(acc, 0.0)
+                    value = s + _interpolate_one(phi, free, (ex - x0) / h, (ey - y0) / h, float(kc), cubic, lenient,
+                                                 wxc, wyc, wtc)
+                    if value < best:
+                        best = value
+        out[m] = best
     return out

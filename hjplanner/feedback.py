@@ -60,9 +60,10 @@ def steering(vf, pose: ArrayLike, dead_band: float | None = None, direction: int
         raise PlanningError(f"dead_band must be >= 0, got {dead_band}")
     if direction not in (1, -1):
         raise PlanningError(f"direction must be 1 (forward) or -1 (reverse), got {direction!r}")
-    # φ at the pose and at θ ± Δθ/2 in one evaluation: the centred difference of vf.dtheta
+    # φ at the pose and at θ ± Δθ/2 in one evaluation: the centred difference of vf.dtheta,
+    # of the interpolant alone (the arc readings are a minimum of several, with kinks in θ)
     step = vf.grid.dtheta / 2
-    here, plus, minus = vf(p[0], p[1], np.array([p[2], p[2] + step, p[2] - step]))
+    here, plus, minus = vf(p[0], p[1], np.array([p[2], p[2] + step, p[2] - step]), arcs=False)
     if not np.isfinite(here):
         return 0
     with np.errstate(invalid="ignore"):

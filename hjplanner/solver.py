@@ -185,8 +185,9 @@ def _boundary_data(ws: Workspace, target, tol: float) -> tuple[np.ndarray, float
     if constrained:
         r0 = max(clear - ws.clearance, grid.h)
     near = np.nonzero(free & (dist <= r0))
-    for k, theta in enumerate(grid.theta):
-        bc[k][near] = local_exact(gx[near], gy[near], theta, (tx, ty), ws.rho, r0, ws.reverse)
+    # every heading at once: (ntheta, nodes near the target)
+    bc[:, near[0], near[1]] = local_exact(gx[near][None, :], gy[near][None, :], grid.theta[:, None], (tx, ty),
+                                          ws.rho, r0, ws.reverse)
     if constrained:
         bc = np.minimum(bc, _first_hits(ws, gx, gy, dist, target, 0.5 * grid.h))
     return bc, float(r0)

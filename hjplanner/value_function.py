@@ -20,6 +20,8 @@ __all__ = ["ValueFunction"]
 FORMAT = "hjplanner.ValueFunction/2"
 #: Finite values are stored as uint16 multiples of a quantum; the largest code is +inf.
 QUANTUM_STEPS = 65534
+#: Grid headings on either side of a pose that :meth:`ValueFunction.__call__` reaches by exact arcs.
+ARC_STEPS = 2
 #: The quantum is h / QUANTA_PER_CELL, or larger if φ would not fit in QUANTUM_STEPS quanta.
 QUANTA_PER_CELL = 64
 
@@ -100,23 +102,28 @@ class ValueFunction:
 
     # --- evaluation -------------------------------------------------------
     def __call__(self, x: ArrayLike, y: ArrayLike, theta: ArrayLike, *, cubic: bool = True,
-                 lenient: bool = False) -> np.ndarray:
+                 lenient: bool = False, arcs: bool = True) -> np.ndarray:
         """φ at poses, broadcasting ``x``, ``y`` (length unit) and ``theta`` (radians).
 
         Tricubic (Catmull-Rom) interpolation, periodic in θ, as in the paper;
         trilinear over the free corners next to blocked or +inf nodes (with
         ``lenient``, over the finite ones); +inf at unreachable states, at
         positions not certified clear of the walls and outside the grid.
+        With ``arcs``, lowered where an exact arc clear of the walls to one of
+        the :data:`ARC_STEPS` nearest grid headings on either side gives a
+        smaller upper bound (arc length plus φ read at that heading, see
+        :func:`hjplanner._sweep.arc_readings`): interpolation in θ smears the
+        jumps of φ over a whole angular step.
         Within the solver's exact layer around a point target
         (``meta["local_radius"]``) the exact value is used where smaller.
         Never NaN for finite inputs.
         """
         x, y, theta = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float), np.asarray(theta, float))
         return self.at_certified(x.ravel(), y.ravel(), theta.ravel(), self.certified_clear(x, y).ravel(),
-                                 cubic=cubic, lenient=lenient).reshape(x.shape)
+                                 cubic=cubic, lenient=lenient, arcs=arcs).reshape(x.shape)
 
     def at_certified(self, x: np.ndarray, y: np.ndarray, theta: np.ndarray, certified: np.ndarray, *,
-                     cubic: bool = True, lenient: bool = False) -> np.ndarray:
+                     cubic: bool = True, lenient: bool = False, arcs: bool = True) -> np.ndarray:
         """φ at poses (n,) whose clearance the caller has already decided.
 
         As :meth:`__call__`, with ``certified`` in place of
@@ -132,7 +139,7 @@ class ValueFunction:
             (n,) headings, radians.
         certified : numpy.ndarray
             (n,) bool: the position keeps the clearance from every wall.
-        cubic, lenient : bool
+        cubic, lenient, arcs : bool
             As in :meth:`__call__`.
 
         Returns
@@ -144,6 +151,11 @@ class ValueFunction:
                                  self.grid.y0, self.grid.h, np.ascontiguousarray(x),
                                  np.ascontiguousarray(y), np.ascontiguousarray(theta), bool(cubic),
                                  bool(lenient))
+        if arcs:
+            out = _sweep.arc_readings(self._phi, self.free, self.distance, self.clearance, self.grid.x0,
+                                      self.grid.y0, self.grid.h, self.rho, self.reverse, np.ascontiguousarray(x),
+                                      np.ascontiguousarray(y), np.ascontiguousarray(theta), out, ARC_STEPS,
+                                      bool(cubic), bool(lenient))
         r0 = float(self.meta.get("local_radius", 0.0))
         if r0 > 0:
             # The solver's exact initial layer (see solve): where the optimal path
@@ -156,10 +168,11 @@ class ValueFunction:
         return out
 
     def dtheta(self, x: ArrayLike, y: ArrayLike, theta: ArrayLike, step: float | None = None) -> np.ndarray:
-        """Centred difference approximation of φ_θ (length per radian), nan-free (+-inf or 0 when one-sided)."""
+        """Centred difference of the interpolated φ in θ (length per radian, no arc readings), nan-free
+        (+-inf or 0 when one-sided)."""
         step = self.grid.dtheta / 2 if step is None else float(step)
-        plus = self(x, y, np.asarray(theta) + step)
-        minus = self(x, y, np.asarray(theta) - step)
+        plus = self(x, y, np.asarray(theta) + step, arcs=False)
+        minus = self(x, y, np.asarray(theta) - step, arcs=False)
         with np.errstate(invalid="ignore"):
             d = (plus - minus) / (2 * step)
         return np.where(np.isnan(d), 0.0, d)
