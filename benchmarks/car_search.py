@@ -13,7 +13,12 @@ the evaluator's judgement), the stop, the readings, the wall contacts and the ca
 simulated seconds per second of computing (``speed``).
 
     nice -n 10 python benchmarks/car_search.py --draws 6 --out benchmarks/car_search/runs.csv
-    python benchmarks/car_search.py --table benchmarks/car_search/runs.csv > benchmarks/car_search.md
+    python benchmarks/car_search.py --table benchmarks/car_search/runs.csv
+
+``paper`` and ``maze`` as a campaign runs them (two workers), then as rows of the same CSV:
+
+    reciprocity campaign benchmarks/search_car_both.yaml --out car_campaign
+    python benchmarks/car_search.py --from-campaign car_campaign --out benchmarks/car_search/campaign.csv
 
 ``--minutes M`` stops starting new draws after M minutes.
 """
@@ -82,6 +87,26 @@ def run(names: list[str], draws: int, out: Path, minutes: float | None, start: i
                 print(row, flush=True)
 
 
+def from_campaign(folder: Path, out: Path) -> None:
+    """Rows of this script's CSV from a campaign's results (``reciprocity campaign``),
+    the arena named by the scenario; the wall time is the episode's own."""
+    import duckdb
+    con = duckdb.connect()
+    rel = con.execute(
+        f"SELECT scenario, seed_index, success, source_reachable, stop_reason, error, n_measurements, "
+        f"collisions, sim_time_s, wall_time_s FROM read_parquet('{folder}/**/*.parquet', "
+        f"hive_partitioning=true) ORDER BY scenario, seed_index")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with out.open("w", newline="") as f:
+        w = csv.DictWriter(f, FIELDS)
+        w.writeheader()
+        for sc, i, ok, reach, stop, err, n, hits, sim, wall in rel.fetchall():
+            w.writerow(dict(arena=sc, draw=i, success=ok, source_reachable=reach, stop=stop.split(":")[0],
+                            error=round(err, 2), n_measurements=n, collisions=hits or 0,
+                            sim_time_s=round(sim, 1), wall_time_s=round(wall, 2), speed=round(sim / wall, 1),
+                            mass_out_of_reach=None))
+
+
 def table(paths: list[Path]) -> str:
     """Markdown: success on reachable draws, unreachable stops, contacts, speed."""
     import numpy as np
@@ -122,7 +147,12 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, default=Path("benchmarks/car_search/runs.csv"))
     ap.add_argument("--minutes", type=float, default=None)
     ap.add_argument("--table", type=Path, nargs="+", default=None, help="print the table of these CSVs")
+    ap.add_argument("--from-campaign", type=Path, default=None,
+                    help="write --out from this campaign folder's results instead of running")
     a = ap.parse_args(argv)
+    if a.from_campaign:
+        from_campaign(a.from_campaign, a.out)
+        return 0
     if a.table:
         print(table(a.table))
         return 0

@@ -317,7 +317,7 @@ class GreenSolver:
             return sp.csr_matrix((n, self.basis.N)), inside
         x = pts[idx].T
         c = cells[idx]
-        loc = self.basis.mapping.invF(x[:, :, None], tind=c)
+        loc = _inverse_map(self.basis.mapping, x[:, :, None], c)
         phis = np.array([self.basis.elem.gbasis(self.basis.mapping, loc, k, tind=c)[0]
                          for k in range(self.basis.Nbfun)])  # (Nbfun, n, 1)
         rows = np.tile(idx, self.basis.Nbfun)
@@ -503,3 +503,34 @@ class GreenSolver:
     def __repr__(self) -> str:
         return (f"GreenSolver(arena={self.arena.name!r}, h={self.h}, order={self.order}, "
                 f"walls={self.walls!r}, unknowns={self.n_unknowns})")
+
+
+#: Newton steps of the fallback inverse map (:func:`_inverse_map`).
+INVERSE_ITERATIONS = 50
+
+
+def _inverse_map(mapping, x: np.ndarray, tind: np.ndarray) -> np.ndarray:
+    """Reference coordinates of the points `x` (2, n, 1) in the cells `tind`.
+
+    scikit-fem's Newton iteration (``mapping.invF``), and where it does not converge (a point
+    just outside its cell on a curved boundary, where the iterate bounces on the clipped
+    reference square), the same iteration point by point with the iterate kept in the
+    reference triangle: the nearest point of the cell, whose basis values are those of the
+    boundary next to the point.
+    """
+    try:
+        return mapping.invF(x, tind=tind)
+    except Exception:                            # noqa: BLE001 -- scikit-fem raises a bare Exception
+        pass
+    X = np.full(x.shape, 1.0 / 3.0)
+    for _ in range(INVERSE_ITERATIONS):
+        dX = np.einsum("ijkl,jkl->ikl", mapping.invDF(X, tind), x - mapping.F(X, tind))
+        X = _in_reference_triangle(X + dX)
+    return X
+
+
+def _in_reference_triangle(X: np.ndarray) -> np.ndarray:
+    """`X` (2, n, 1) moved into the reference triangle ``{X0, X1 >= 0, X0 + X1 <= 1}``."""
+    X = np.clip(X, 0.0, 1.0)
+    excess = np.maximum(X[0] + X[1] - 1.0, 0.0) / 2.0
+    return np.clip(X - excess[None], 0.0, 1.0)

@@ -108,11 +108,8 @@ SIGMA_RULES = ("auto", "noise", "calibrated")
 #: none (max 3.1 cm).
 CALIBRATED_MODEL_ERROR = 0.05
 #: Stop with ``StopReason.UNREACHABLE`` once the belief puts less than this mass within
-#: `reach` of every point the observer can reach (the source is out of reach with 95 %
-#: probability). On the car (``benchmarks/search_car.yaml``) the mass stayed at 0.63-1.0
-#: at every reading for every reachable source tried (0.99-1.0 from the second reading
-#: with the world's noise 12) and was at most 0.16 after the first reading for 5 of the 6
-#: unreachable ones, falling below 0.05 within 2-8 readings.
+#: reach (:meth:`ReciprocityStrategy.within_reach`): the source is out of reach with 95 %
+#: probability. Measured on the car in ``benchmarks/car_search.md``.
 UNREACH_MASS = 0.05
 #: Readings before the mass rule above applies (the first reading alone leaves a band).
 UNREACH_MIN_READINGS = 2
