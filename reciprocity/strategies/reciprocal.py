@@ -795,7 +795,7 @@ class ReciprocityStrategy(Strategy):
         if self.imaging.n:
             w = self.imaging.weights()
             within = float(w[near].sum() / w.sum())
-            self.notes.update(mass_out_of_reach=round(1.0 - within, 4),
+            self.notes.update(mass_out_of_reach=round(max(0.0, 1.0 - within), 4),
                               reachable_area=round(float(self._node_area[self._reachable].sum()), 1))
             if self.imaging.n >= UNREACH_MIN_READINGS and within < UNREACH_MASS:
                 self.stop(StopReason.UNREACHABLE, f"the source lies out of reach with probability "
