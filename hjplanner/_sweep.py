@@ -58,57 +58,51 @@ def _dep_changed(changed, kc, e0, f0, since):
 
 
 @njit(cache=True, nogil=True)
-def _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, i0, i1, j0, j1, scratch):
-    """``scratch[i, j]``: the smaller of ``bc`` and the turning stencils' candidates, on ``[i0, i1) x [j0, j1)``.
+def _turning_stencil(phi, k, c, off_i, off_j, w, inv_self, src, cost, adm, pad, i0, i1, j0, j1, tmin):
+    """``tmin[i, j]`` lowered to the candidate of turning stencil c where smaller, on ``[i0, i1) x [j0, j1)``.
 
-    The turning stencils read other layers only (``src``: the layer, or its
-    snapshot, that stencil c of layer k reads), which do not change during a
-    layer's pass, so they are taken first, a row at a time in loops the
-    compiler vectorises.
+    A turning stencil reads another layer (``src[k, c]``: the layer, or its
+    snapshot, that it reads), which does not change while layer k is swept,
+    so it is taken a row at a time in a loop the compiler vectorises.
     """
-    nc = off_i.shape[1]
     m = j1 - j0
+    kc = src[k, c]
+    w0, w1, w2, w3 = w[k, c, 0], w[k, c, 1], w[k, c, 2], w[k, c, 3]
+    cst, inv = cost[k, c], inv_self[k, c]
+    bit = np.uint32(1) << np.uint32(c)
     for i in range(i0, i1):
-        ip = i + pad
+        a = i + pad + off_i[k, c]
+        b0 = pad + off_j[k, c] + j0
         # Row slices indexed from 0: the compiler then vectorises the loop over j.
-        sc = scratch[i, j0:j1]
-        sc[:] = bc[k, i, j0:j1]
+        sc = tmin[i, j0:j1]
         ad = adm[k, i, j0:j1]
-        for c in range(nc):
-            if kk[k, c] == k:
-                continue
-            kc = src[k, c]
-            a = ip + off_i[k, c]
-            b0 = pad + off_j[k, c] + j0
-            w0, w1, w2, w3 = w[k, c, 0], w[k, c, 1], w[k, c, 2], w[k, c, 3]
-            cst, inv = cost[k, c], inv_self[k, c]
-            bit = np.uint32(1) << np.uint32(c)
-            r0 = phi[kc, a, b0:b0 + m + 1]
-            r1 = phi[kc, a + 1, b0:b0 + m + 1]
-            for j in range(m):
-                value = (cst + w0 * r0[j] + w1 * r0[j + 1] + w2 * r1[j] + w3 * r1[j + 1]) * inv
-                if (ad[j] & bit) == 0:
-                    value = INF
-                sc[j] = min(sc[j], value)
+        r0 = phi[kc, a, b0:b0 + m + 1]
+        r1 = phi[kc, a + 1, b0:b0 + m + 1]
+        for j in range(m):
+            value = (cst + w0 * r0[j] + w1 * r0[j + 1] + w2 * r1[j] + w3 * r1[j + 1]) * inv
+            if (ad[j] & bit) == 0:
+                value = INF
+            sc[j] = min(sc[j], value)
 
 
 @njit(cache=True, nogil=True)
-def _straight_pass(lay, scratch, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straight, s_bit, s_di, s_dj, s_w, s_cost,
+def _straight_pass(lay, tmin, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straight, s_bit, s_di, s_dj, s_w, s_cost,
                    s_inv, tol):
     """Gauss-Seidel update of the nodes ``[i0, i1) x [j0, j1)`` of one layer ``lay`` (padded), in their order.
 
-    A node gets the smaller of its value, ``scratch`` (the turning minimum)
+    A node gets the smaller of its value, ``tmin`` (the turning minimum)
     and the candidates of the straight stencils s set in its bitmask ``ad``
     (bit ``s_bit[s]``), whose feet lie in this layer at offsets
     ``(s_di[s], s_dj[s])`` with weights ``s_w[s]``.  The parameters of the
-    first two stencils are held in locals for the whole pass.  Returns
-    whether some node decreased by more than ``tol``.
+    first two stencils are held in locals for the whole pass.  Returns 2
+    if some node decreased by more than ``tol``, else 1 if some node
+    decreased, else 0.
     """
     bit0, di0, dj0, cst0, inv0 = s_bit[0], s_di[0], s_dj[0], s_cost[0], s_inv[0]
     w00, w01, w02, w03 = s_w[0, 0], s_w[0, 1], s_w[0, 2], s_w[0, 3]
     bit1, di1, dj1, cst1, inv1 = s_bit[1], s_di[1], s_dj[1], s_cost[1], s_inv[1]
     w10, w11, w12, w13 = s_w[1, 0], s_w[1, 1], s_w[1, 2], s_w[1, 3]
-    moved = False
+    moved = 0
     for p in range(i1 - i0):
         i = i1 - 1 - p if rev_i else i0 + p
         ip = i + pad
@@ -119,7 +113,7 @@ def _straight_pass(lay, scratch, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straig
             if bits == 0:
                 continue
             jp = j + pad
-            best = scratch[i, j]
+            best = tmin[i, j]
             if bits & bit0:
                 b = jp + dj0
                 best = min(best, (cst0 + w00 * lay[a0, b] + w01 * lay[a0, b + 1] + w02 * lay[a0 + 1, b]
@@ -138,14 +132,13 @@ def _straight_pass(lay, scratch, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straig
             # creeping down geometrically through astronomically large values.
             if best < old and best < UNREACHABLE:
                 lay[ip, jp] = best
-                if old - best > tol:
-                    moved = True
+                moved = max(moved, 2 if old - best > tol else 1)
     return moved
 
 
 @njit(cache=True, nogil=True)
-def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i, rev_j, pad, qi, qj, self_seen,
-                  tol, clock, fixed, changed, computed, layer_changed, turn, scratch):
+def _update_layer(phi, tmin, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i, rev_j, pad, qi, qj, self_seen,
+                  tol, clock, fixed, changed, touched, computed, layer_changed, turn, stale):
     """One Gauss-Seidel pass over layer ``k`` of the padded array, block by block.
 
     Candidate of stencil c, if its arc is clear of the walls (bit c of
@@ -158,11 +151,21 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev
     takes the stamp ``t = 2 * clock`` (the clock counts computed blocks),
     or ``t = fixed`` if ``fixed`` > 0 (one stamp for a whole sweep), and
     gets ``changed[k, bi, bj] = layer_changed[k] = t`` where some node
-    decreased by more than ``tol``, and ``computed[k, bi, bj] = t`` -- or
-    ``t - 1`` when a change of the block itself may have come after a node
-    read it (``self_seen`` false: a straight foot not upstream; always with
+    decreased by more than ``tol``, ``touched[k, bi, bj] = t`` where some
+    node decreased at all, and ``computed[k, bi, bj] = t`` -- or ``t - 1``
+    when a change of the block itself may have come after a node read it
+    (``self_seen`` false: a straight foot not upstream; always with
     ``fixed``), so that it is computed again.  Returns the blocks computed
     and the clock.
+
+    ``tmin[k]`` (unpadded) holds, node by node, the smallest of ``bc`` and
+    the turning stencils' candidates read so far.  Values only decrease, so
+    no candidate is ever below one read earlier, and ``tmin`` is the
+    current turning minimum once the stencils whose feet decreased since
+    the last read have been read again: a computed block reads only those
+    (``touched`` after ``computed``; :func:`_turning_stencil`, a row of
+    blocks at a time).  The result is the same as reading every turning
+    stencil at every computation, to the bit.
 
     The blocks are visited row by row in the order of the nodes (``rev_i``,
     ``rev_j``), and the nodes of a block in that order too: a node whose
@@ -170,10 +173,8 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev
     their update, as in a pass over the whole layer.  Whether a block depends
     on a change of this layer is decided when the pass reaches it, so a
     change travels along straight motion across any number of blocks in one
-    pass.  The turning minimum (:func:`_turning_min`) of the blocks that
-    depend on another layer's change is taken a row of blocks at a time, the
-    straight stencils follow node by node.  The minimum being exact, the
-    result is the same as taking every candidate node by node.
+    pass.  The straight stencils are taken node by node
+    (:func:`_straight_pass`).
     """
     nt, nxp, nyp = phi.shape
     nx, ny = nxp - 2 * pad, nyp - 2 * pad
@@ -196,32 +197,33 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev
         s_bit[s] = np.uint32(1) << np.uint32(c)
         s_di[s], s_dj[s], s_cost[s], s_inv[s] = off_i[k, c], off_j[k, c], cost[k, c], inv_self[k, c]
         s_w[s] = w[k, c]
-    lay, ad = phi[k], adm[k]
+    lay, ad, tm = phi[k], adm[k], tmin[k]
     n_blocks = 0
     for pb in range(nbx):
         bi = nbx - 1 - pb if rev_i else pb
         i0, i1 = bi * BLOCK, min(bi * BLOCK + BLOCK, nx)
-        any_turn = False
         for bj in range(nby):
             since = computed[k, bi, bj] + 1
             flag = False
             for c in range(nc):
-                if kk[k, c] != k and _dep_changed(changed, src[k, c], bi + qi[k, c], bj + qj[k, c], since):
-                    flag = True
-                    break
+                if kk[k, c] != k:
+                    stale[bj, c] = _dep_changed(touched, src[k, c], bi + qi[k, c], bj + qj[k, c], since)
+                    flag = flag or (stale[bj, c] and _dep_changed(changed, src[k, c], bi + qi[k, c],
+                                                                  bj + qj[k, c], since))
+                else:
+                    stale[bj, c] = False
             turn[bj] = flag
-            any_turn = any_turn or flag
-        if any_turn:
+        for c in range(nc):
             bj = 0
             while bj < nby:
-                if not turn[bj]:
+                if not (turn[bj] and stale[bj, c]):
                     bj += 1
                     continue
                 run = bj
-                while run < nby and turn[run]:
+                while run < nby and turn[run] and stale[run, c]:
                     run += 1
-                _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, i0, i1, bj * BLOCK,
-                             min(run * BLOCK, ny), scratch)
+                _turning_stencil(phi, k, c, off_i, off_j, w, inv_self, src, cost, adm, pad, i0, i1, bj * BLOCK,
+                                 min(run * BLOCK, ny), tm)
                 bj = run
         for qb in range(nby):
             bj = nby - 1 - qb if rev_j else qb
@@ -236,101 +238,125 @@ def _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev
                         break
                 if not flag:
                     continue
-                _turning_min(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, i0, i1, j0, j1,
-                             scratch)
+                for c in range(nc):
+                    if stale[bj, c]:
+                        _turning_stencil(phi, k, c, off_i, off_j, w, inv_self, src, cost, adm, pad, i0, i1, j0, j1,
+                                         tm)
             n_blocks += 1
             clock += 1
             stamp = fixed if fixed > 0 else 2 * clock
             computed[k, bi, bj] = stamp if self_seen and fixed <= 0 else stamp - 1
-            if _straight_pass(lay, scratch, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straight, s_bit, s_di, s_dj, s_w,
-                              s_cost, s_inv, tol):
+            moved = _straight_pass(lay, tm, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straight, s_bit, s_di, s_dj, s_w,
+                                   s_cost, s_inv, tol)
+            if moved > 0:
+                touched[k, bi, bj] = stamp
+            if moved > 1:
                 changed[k, bi, bj] = stamp
                 layer_changed[k] = stamp
     return n_blocks, clock
 
 
 @njit(cache=True, nogil=True)
-def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach):
-    """Bitmask (ntheta, nx, ny) of the stencils whose arc is clear of the walls.
+def stencil_masks(distance, free, clearance, ci, cj, corner_dist, reach, group, length):
+    """Bitmask (ntheta, nx, ny) of the stencils whose arc is certified clear of the walls.
 
-    Bit c of ``adm[k, i, j]`` is set when the arc of control c from the free
-    node (i, j) at heading k stays at the clearance: either the node is
-    farther than ``clearance + reach[c]`` from every wall (the arc is
-    shorter than ``reach[c]``), or its middle sample has a certified wall
-    distance of at least ``margin[c]`` plus the arc length from it to the
-    farther end (the whole arc lies in that disk), or every sample m of
-    the arc, in cell ``(i + ci, j + cj)`` at ``corner_dist`` from its
-    corners, has a certified wall distance of at least ``margin[c]`` or
-    lies within the disk of radius ``bound - margin[c]`` around an earlier
-    sample of certified distance ``bound`` (a point of that disk is at
-    least ``margin[c]`` from every wall, the wall distance being
-    1-Lipschitz); samples in such disks are skipped.
+    Bit c of ``adm[k, i, j]`` is set when every point of the arc of stencil
+    c, of length ``length[c]``, from the free node (i, j) at heading k is
+    certified at least ``clearance`` from every wall.  The arcs of one
+    steering and direction (``group[c]``) are prefixes of the group's
+    longest arc, of length ``reach[g]``, so they are decided together: an
+    arc is clear when it is no longer than the certified prefix of its
+    group's longest arc.
+
+    The certified prefix grows from the node, whose wall distance ``d0`` is
+    known: every point of the arc within arc length ``F = d0 - clearance``
+    of it keeps the clearance.  The check points m of the longest arc (at
+    arc length ``reach[g] m / (nq - 1)``, in cell ``(i + ci, j + cj)`` at
+    ``corner_dist`` from its corners) then extend it: the first one at or
+    beyond ``F``, at arc length ``p``, has a certified wall distance ``B``
+    (see :mod:`hjplanner._grid`) and, the wall distance being 1-Lipschitz,
+    every point of the arc within arc length ``B - clearance`` of it keeps
+    the clearance.  If that reaches back to ``F`` (``B >= clearance + p -
+    F``) the prefix grows to ``p + B - clearance``, otherwise, or if the
+    check point is off the grid, it ends at ``F``.  Far from the walls a
+    check point certifies a long stretch, so few are read.
+
+    Parameters
+    ----------
+    distance, free : numpy.ndarray
+        Signed wall distance at the nodes and free-node mask (nx, ny).
+    clearance : float
+        Wall distance every arc keeps (length unit).
+    ci, cj : numpy.ndarray
+        (ntheta, ngroups, nq) int: lower corner of the cell of each check
+        point, relative to the start node.
+    corner_dist : numpy.ndarray
+        (ntheta, ngroups, nq, 4) distance of each check point to the
+        corners (0,0), (0,1), (1,0), (1,1) of its cell (length unit).
+    reach : numpy.ndarray
+        (ngroups,) length of each group's longest arc.
+    group, length : numpy.ndarray
+        (nc,) group and arc length of each stencil.
+
+    Returns
+    -------
+    numpy.ndarray
+        (ntheta, nx, ny) uint32 bitmask; 0 at blocked nodes.
     """
-    nt, nc, nm = ci.shape
+    nt, ng, nq = ci.shape
+    last = nq - 1
+    nc = group.shape[0]
     nx, ny = distance.shape
     adm = np.zeros((nt, nx, ny), np.uint32)
     every = np.uint32((1 << nc) - 1)
     far = clearance + reach.max()
-    mid = (nm - 1) // 2
-    half = (nm - 1 - mid) / (nm - 1)  # arc length from the middle sample to the farther end / reach
+    near_i = np.empty(nx * ny, np.int64)
+    near_j = np.empty(nx * ny, np.int64)
+    n_near = 0
     for i in range(nx):
         for j in range(ny):
-            if not free[i, j]:
-                continue
+            if free[i, j] and distance[i, j] < far:
+                near_i[n_near], near_j[n_near] = i, j
+                n_near += 1
+    for k in range(nt):
+        layer = adm[k]
+        for i in range(nx):
+            for j in range(ny):
+                if free[i, j] and distance[i, j] >= far:  # every arc is shorter than the distance to the walls
+                    layer[i, j] = every
+        for p in range(n_near):
+            i, j = near_i[p], near_j[p]
             d0 = distance[i, j]
-            if d0 >= far:  # every arc is shorter than the distance to the walls
-                for k in range(nt):
-                    adm[k, i, j] = every
-                continue
-            for k in range(nt):
-                bits = np.uint32(0)
+            bits = np.uint32(0)
+            for g in range(ng):
+                front = d0 - clearance
+                while front < reach[g]:
+                    # the first check point at or beyond the front
+                    m = min(int(np.ceil(front * last / reach[g])), last)
+                    a = i + ci[k, g, m]
+                    b = j + cj[k, g, m]
+                    if a < 0 or b < 0 or a > nx - 2 or b > ny - 2:
+                        break
+                    bound = -np.inf
+                    for corner in range(4):
+                        value = distance[a + corner // 2, b + corner % 2] - corner_dist[k, g, m, corner]
+                        if value > bound:
+                            bound = value
+                    at = reach[g] * m / last
+                    grown = at + bound - clearance
+                    if bound < clearance + at - front or grown <= front:
+                        break
+                    front = grown
                 for c in range(nc):
-                    ok = d0 >= clearance + reach[c]
-                    if not ok:
-                        a = i + ci[k, c, mid]
-                        b = j + cj[k, c, mid]
-                        if a >= 0 and b >= 0 and a <= nx - 2 and b <= ny - 2:
-                            bound = -np.inf
-                            for corner in range(4):
-                                value = distance[a + corner // 2, b + corner % 2] - corner_dist[k, c, mid, corner]
-                                if value > bound:
-                                    bound = value
-                            ok = bound >= margin[c] + reach[c] * half
-                    if not ok:
-                        ok = True
-                        step = reach[c] / (nm - 1)  # arc length between samples
-                        covered = -1.0  # samples up to this index lie in the certified disk of a checked one
-                        m = 0
-                        while m < nm:
-                            a = i + ci[k, c, m]
-                            b = j + cj[k, c, m]
-                            if a < 0 or b < 0 or a > nx - 2 or b > ny - 2:
-                                ok = False
-                                break
-                            bound = -np.inf
-                            for corner in range(4):
-                                value = distance[a + corner // 2, b + corner % 2] - corner_dist[k, c, m, corner]
-                                if value > bound:
-                                    bound = value
-                            if bound < margin[c]:
-                                if m <= covered:
-                                    m += 1
-                                    continue
-                                ok = False
-                                break
-                            if bound - margin[c] >= reach[c] * (nm - 1 - m) / (nm - 1):
-                                break  # the rest of the arc lies in the certified disk around this sample
-                            covered = max(covered, m + (bound - margin[c]) / step)
-                            m += max(1, int((bound - margin[c]) / step))
-                    if ok:
+                    if group[c] == g and length[c] <= front:
                         bits |= np.uint32(1) << np.uint32(c)
-                adm[k, i, j] = bits
+            layer[i, j] = bits
     return adm
 
 
 @njit(cache=True, nogil=True)
-def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, qi, qj, self_seen, tol, clock, fixed,
-                  changed, computed, layer_changed, layer_pass, skip, order, rev_i, rev_j, turn, scratch):
+def _sweep_layers(phi, tmin, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, qi, qj, self_seen, tol, clock, fixed,
+                  changed, touched, computed, layer_changed, layer_pass, skip, order, rev_i, rev_j, turn, stale):
     """Sweep the layers in ``order`` (:func:`_update_layer`); returns the blocks computed and the clock.
 
     ``layer_changed[k]`` is the stamp of the last change in layer k and
@@ -350,9 +376,9 @@ def _sweep_layers(phi, bc, off_i, off_j, w, inv_self, kk, src, cost, adm, pad, q
             layer_pass[k] = 2 * clock
             if idle:
                 continue
-        n, clock = _update_layer(phi, bc, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i[k], rev_j[k], pad,
-                                 qi, qj, self_seen[k], tol, clock, fixed, changed, computed, layer_changed, turn,
-                                 scratch)
+        n, clock = _update_layer(phi, tmin, k, off_i, off_j, w, inv_self, kk, src, cost, adm, rev_i[k], rev_j[k],
+                                 pad, qi, qj, self_seen[k], tol, clock, fixed, changed, touched, computed,
+                                 layer_changed, turn, stale)
         n_blocks += n
     return n_blocks, clock
 
@@ -406,7 +432,9 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     one of its stencils changed after it read them.  Blocks that never held
     a finite value have no stamp, so the sweeps skip the region the front
     has not reached, and converged regions cost nothing in later sweeps.
-    Returns the number of sweeps done.
+    The turning minimum of each node is kept between computations and only
+    the turning stencils whose feet decreased since are read again (see
+    :func:`_update_layer`).  Returns the number of sweeps done.
     """
     nt = phi.shape[0]
     nx, ny = phi.shape[1] - 2 * pad, phi.shape[2] - 2 * pad
@@ -425,13 +453,15 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     changed = np.full((nt + nsnap, nbx, nby), NEVER, np.int64)  # stamp of the last change
     k, i, j = np.nonzero(phi[:, pad:pad + nx, pad:pad + ny] < UNREACHABLE)
     changed[k, i // BLOCK, j // BLOCK] = 0  # the initial data
+    touched = changed.copy()  # stamp of the last decrease of any size
     computed = np.full((nt, nbx, nby), -1, np.int64)  # stamp of the last computation
     layer_changed = changed[:nt].max(axis=(1, 2))
     layer_pass = np.full(nt, -1, np.int64)
     clock = 0
     flags = np.zeros((groups, nby), np.bool_)
-    scratch = np.empty((groups, nx, ny))
-    args = (work, bc, off_i, off_j, w, inv_self, kk)
+    stale = np.zeros((groups, nby, kk.shape[1]), np.bool_)
+    tmin = np.array(bc, dtype=float)  # the turning minimum read so far, node by node (see _update_layer)
+    args = (work, tmin, off_i, off_j, w, inv_self, kk)
     rest = (cost, adm, pad, qi, qj)
 
     def layers(group, sweep):
@@ -453,6 +483,7 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
         slot[deps] = nt + np.arange(len(deps))
         work[nt:nt + len(deps)] = work[deps]
         changed[nt:nt + len(deps)] = changed[deps]
+        touched[nt:nt + len(deps)] = touched[deps]
         return np.where(cross, slot[kk], kk)
 
     upstream = {flip: _upstream(off_i, off_j, w, kk, rev_i ^ flip, rev_j ^ flip) for flip in {False, bool(two_way)}}
@@ -470,8 +501,8 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
 
             def run(group, sweep=sweeps, fixed=fixed, clock=clock):
                 return _sweep_layers(*args, source, *rest, upstream[flip], float(tol), clock, fixed, changed,
-                                     computed, layer_changed, layer_pass, groups == 1, layers(group, sweep), ri, rj,
-                                     flags[group], scratch[group])
+                                     touched, computed, layer_changed, layer_pass, groups == 1, layers(group, sweep),
+                                     ri, rj, flags[group], stale[group])
 
             results = list(map(run, range(groups)) if pool is None else pool.map(run, range(groups)))
             n_blocks = sum(n for n, _ in results)
