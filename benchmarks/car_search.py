@@ -52,25 +52,18 @@ def scenario_of(name: str, i: int):
 
 
 def run(names: list[str], draws: int, out: Path, minutes: float | None, start: int = 0) -> None:
+    from resumable import appending, deadline, done_keys
     from reciprocity.env import SearchEnv, rollout
     from reciprocity.strategies import STRATEGIES
     from reciprocity.strategies.agent import StrategyAgent
-    done = set()
-    if out.exists():
-        with out.open() as f:
-            done = {(r["arena"], int(r["draw"])) for r in csv.DictReader(f)}
-    out.parent.mkdir(parents=True, exist_ok=True)
-    new = not out.exists()
-    t_end = None if minutes is None else time.monotonic() + 60 * minutes
-    with out.open("a", newline="") as f:
-        w = csv.DictWriter(f, FIELDS)
-        if new:
-            w.writeheader()
+    done = done_keys(out, lambda r: (r["arena"], int(r["draw"])))
+    expired = deadline(minutes)
+    with appending(out, FIELDS) as w:
         for i in range(start, start + draws):
             for name in names:
                 if (name, i) in done:
                     continue
-                if t_end is not None and time.monotonic() > t_end:
+                if expired():
                     return
                 env = SearchEnv(scenario_of(name, i), platform="car")
                 t0 = time.perf_counter()
@@ -83,7 +76,7 @@ def run(names: list[str], draws: int, out: Path, minutes: float | None, start: i
                            speed=round(float(s["sim_time_s"]) / wall, 1),
                            mass_out_of_reach=s.get("mass_out_of_reach"))
                 w.writerow(row)
-                f.flush()
+                w.file.flush()
                 print(row, flush=True)
 
 

@@ -36,20 +36,13 @@ def run(families: list[str], draws: int, out: Path, minutes: float | None, modes
     from reciprocity.scenarios import load_scenario
     from reciprocity.strategies import STRATEGIES
     from reciprocity.strategies.agent import StrategyAgent
-    done = set()
-    if out.exists():
-        with out.open() as f:
-            done = {(r["family"], int(r["draw"]), r["mode"]) for r in csv.DictReader(f)}
-    out.parent.mkdir(parents=True, exist_ok=True)
-    new = not out.exists()
-    t_end = None if minutes is None else time.monotonic() + 60 * minutes
-    with out.open("a", newline="") as f:
-        w = csv.DictWriter(f, FIELDS)
-        if new:
-            w.writeheader()
+    from resumable import appending, deadline, done_keys
+    done = done_keys(out, lambda r: (r["family"], int(r["draw"]), r["mode"]))
+    expired = deadline(minutes)
+    with appending(out, FIELDS) as w:
         for i in range(start, start + draws):
             for fam in families:
-                if t_end is not None and time.monotonic() > t_end:
+                if expired():
                     return
                 scenario = load_scenario(arenas.generate(fam, i))
                 for mode, world in MODES.items():
@@ -65,7 +58,7 @@ def run(families: list[str], draws: int, out: Path, minutes: float | None, modes
                                     wall_time_s=round(time.perf_counter() - t0, 2),
                                     remesh_failures=s.get("remesh_failures", ""), surveys=s.get("surveys", ""),
                                     peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024))
-                    f.flush()
+                    w.file.flush()
 
 
 def _q(values, q: float) -> str:
