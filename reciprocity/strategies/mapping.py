@@ -19,7 +19,10 @@ built from the platform's range scans and answers the strategy's three questions
   belief mass within reach, discounted by the path to it (:meth:`MapKeeper.frontier_point`):
   the reciprocity strategy surveys it (:class:`~reciprocity.intents.Survey`: the scan
   there tells about the map, with no reading) where the platform takes surveys, and reads
-  there otherwise.
+  there otherwise;
+- *which targets has the platform refused?* :meth:`MapKeeper.refuse` remembers them
+  across the believed maps (each re-mesh rebuilds the reachable set) until the walls near
+  one lose enough area to open a way to it (:meth:`MapKeeper.refused`).
 """
 
 from __future__ import annotations
@@ -32,12 +35,13 @@ import numpy as np
 from arenas import Arena
 
 from ..beliefs.occupancy import OccupancyGrid
+from ..spaces.occupancy import MIN_CHANGE_CM2
 from ..errors import SearchError
 from ..imaging import ImagingMap
 from ..observations import Observation, scans_of
 
 __all__ = ["MapKeeper", "ShortfallImaging", "UNSEEN_MODEL_ERROR", "MAPPED_MODEL_ERROR", "UNSEEN_SHORTFALL",
-           "FRONTIER_SHARE", "SURVEY_SHARE", "FRONTIER_DISCOUNT"]
+           "FRONTIER_SHARE", "SURVEY_SHARE", "FRONTIER_DISCOUNT", "REOPEN_CM2"]
 
 #: Relative model error added per unit share of the arena not yet seen (the whole arena
 #: unseen: 0.3, a reading may be 30 % off the model's prediction).
@@ -59,6 +63,12 @@ FRONTIER_SHARE = 0.5
 SURVEY_SHARE = FRONTIER_SHARE
 #: Path length (cm) over which a frontier point's score falls by a factor e.
 FRONTIER_DISCOUNT = 100.0
+#: A refused target is tried again once the scanned walls within the lidar's range of it
+#: have lost this much of the area they held at the refusal (cm²): walls that appear can
+#: only shut a target out further, walls that go (noisy hits seen through, cells the
+#: platform drove over) may open the gap that shut it out. The area of a change that makes
+#: a new believed map: a smaller loss does not change the walls the platform plans on.
+REOPEN_CM2 = MIN_CHANGE_CM2
 
 
 class MapKeeper:
@@ -88,6 +98,7 @@ class MapKeeper:
         self.lidar = dict(lidar)
         self.arena = self.grid.believed_arena()
         self._visited = np.empty((0, 2))
+        self._refused: list[tuple[np.ndarray, float, np.ndarray]] = []
 
     @classmethod
     def from_nominal(cls, nominal) -> "MapKeeper | None":
@@ -116,6 +127,30 @@ class MapKeeper:
         changed = new is not self.arena
         self.arena = new
         return changed
+
+    def refuse(self, point, radius: float) -> None:
+        """Remember that the platform refused a target at `point` (cm): the nodes within
+        `radius` (cm) of it stay out of the reachable set of every later believed map,
+        until :meth:`refused` lets it go."""
+        p = np.asarray(point, dtype=float)[:2]
+        self._refused.append((p, float(radius), np.flatnonzero(self._walls_near(p))))
+
+    def refused(self) -> list[tuple[np.ndarray, float]]:
+        """The refused targets still in force, ``(point (2,), radius)``, cm; a target
+        whose nearby scanned walls (within the lidar's range) lost REOPEN_CM2 of their area
+        since its refusal is forgotten (it may have become reachable)."""
+        if not self._refused:
+            return []
+        walls = self.grid.obstacle_mask(raw=True).ravel()
+        cell2 = self.grid.cell ** 2
+        self._refused = [(p, r, cells) for p, r, cells in self._refused
+                         if (~walls[cells]).sum() * cell2 < REOPEN_CM2]
+        return [(p, r) for p, r, _ in self._refused]
+
+    def _walls_near(self, point: np.ndarray) -> np.ndarray:
+        """Mask (ny, nx) of the scanned walls within the lidar's range of `point`."""
+        near = np.sum((self.grid.centres() - point) ** 2, axis=-1) <= float(self.lidar["range"]) ** 2
+        return self.grid.obstacle_mask(raw=True) & near
 
     def model_error(self, base: float = 0.0) -> float:
         """Relative error of the model's predicted readings on the believed map: `base`
