@@ -53,6 +53,12 @@ SCAN_EVERY = 5.0
 #: side (cm), for the estimate's error and the car's contacts with walls.
 SWEEP_MARGIN = 0.5
 
+#: The scanned walls (hit cells as they are) reach on average half a cell into the free
+#: space (a wall's surface lies anywhere in the cell its beams hit, and the walls are
+#: traced along the cells' edges): the car keeps its clearance less this share of a cell
+#: from them, its clearance from the true walls on average.
+SCANNED_BIAS_CELLS = 0.5
+
 #: Six bang-bang actions (steer, direction): left / straight / right x forward / reverse.
 ACTIONS = tuple((u, v) for v in (1, -1) for u in (1, 0, -1))
 
@@ -359,7 +365,7 @@ class CarPlatform(Platform):
     def _standable(self, target: np.ndarray) -> np.ndarray:
         """The target, or the nearest point within 3 cm that keeps the clearance (plus
         one grid cell); UnreachableTarget if there is none."""
-        need = self.options.clearance + 0.75 * self.options.h
+        need = self._clearance() + 0.75 * self.options.h
         if self.arena.wall_distance(target[None])[0] >= need and self.arena.contains(target[None])[0]:
             return target
         for r in np.arange(0.5, 3.01, 0.5):
@@ -443,7 +449,7 @@ class CarPlatform(Platform):
             failure = UnreachableTarget(target, (
                 f"target ({target[0]:.1f}, {target[1]:.1f}) cm cannot be reached from the car's "
                 f"pose ({est[0]:.1f}, {est[1]:.1f}): it is enclosed, or behind a gap narrower "
-                f"than twice the clearance of {self.options.clearance:g} cm"))
+                f"than twice the clearance of {self._clearance():g} cm"))
         raise failure
 
     def _solve(self, target: np.ndarray):
@@ -506,8 +512,15 @@ class CarPlatform(Platform):
         new = (self.grid.believed_arena() if walls == "believed" else self.grid.scanned_arena()).without_scenario()
         if new is old or _same_walls(new, old) or not new.contains(here[None])[0]:
             return False
-        self._maps[walls] = (new, OnDemandPlanner(new, maxsize=8, **self._planner_options))
+        options = dict(self._planner_options, clearance=self._clearance(walls))
+        self._maps[walls] = (new, OnDemandPlanner(new, maxsize=8, **options))
         return True
+
+    def _clearance(self, walls: str | None = None) -> float:
+        """The clearance the car keeps from `walls` (default: the walls it plans on), cm."""
+        if (walls or self.walls) == "scanned":
+            return self.options.clearance - SCANNED_BIAS_CELLS * self.grid.cell
+        return self.options.clearance
 
     def _note_map(self) -> None:
         """Log the walls the car plans on, with the time they became current (for the

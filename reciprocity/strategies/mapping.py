@@ -63,12 +63,14 @@ FRONTIER_SHARE = 0.5
 SURVEY_SHARE = FRONTIER_SHARE
 #: Path length (cm) over which a frontier point's score falls by a factor e.
 FRONTIER_DISCOUNT = 100.0
-#: A refused target is tried again once the scanned walls within the lidar's range of it
+#: A refused target is tried again once the believed walls within the lidar's range of it
 #: have lost this much of the area they held at the refusal (cm²): walls that appear can
-#: only shut a target out further, walls that go (noisy hits seen through, cells the
-#: platform drove over) may open the gap that shut it out. The area of a change that makes
-#: a new believed map: a smaller loss does not change the walls the platform plans on.
-REOPEN_CM2 = MIN_CHANGE_CM2
+#: only shut a target out further, walls that go (noisy hits seen through, a gap seen
+#: from nearer) may open the way that was shut. Opening a gap the platform could not pass
+#: takes a strip through a believed wall (three cells thick) two or more cells wide; a
+#: noisy cell that comes and goes is mostly hidden by its neighbours' dilation: twice
+#: MIN_CHANGE_CM2, the change that makes a new believed map.
+REOPEN_CM2 = 2.0 * MIN_CHANGE_CM2
 
 
 class MapKeeper:
@@ -128,29 +130,41 @@ class MapKeeper:
         self.arena = new
         return changed
 
-    def refuse(self, point, radius: float) -> None:
-        """Remember that the platform refused a target at `point` (cm): the nodes within
-        `radius` (cm) of it stay out of the reachable set of every later believed map,
-        until :meth:`refused` lets it go."""
+    def refuse(self, point, radius: float) -> float:
+        """Remember that the platform refused a target at `point` (cm), and return the
+        radius (cm) of the neighbourhood to keep out of the reachable set of this and
+        every later believed map (until :meth:`refused` lets it go).
+
+        `radius` at first; a target refused within twice the radius of an earlier refusal
+        in force gets twice that one's radius, up to half the lidar's range: refusals
+        that cluster mark a region the platform cannot enter (behind a gap too narrow for
+        it), which point-by-point refusals would spend the search's refusals on.
+        """
         p = np.asarray(point, dtype=float)[:2]
-        self._refused.append((p, float(radius), np.flatnonzero(self._walls_near(p))))
+        r = float(radius)
+        for q, rq, _ in self._refused:
+            if np.hypot(*(p - q)) <= 2.0 * rq:
+                r = max(r, 2.0 * rq)
+        r = min(r, max(float(radius), 0.5 * float(self.lidar["range"])))
+        self._refused.append((p, r, np.flatnonzero(self._walls_near(p))))
+        return r
 
     def refused(self) -> list[tuple[np.ndarray, float]]:
         """The refused targets still in force, ``(point (2,), radius)``, cm; a target
-        whose nearby scanned walls (within the lidar's range) lost REOPEN_CM2 of their area
-        since its refusal is forgotten (it may have become reachable)."""
+        whose nearby believed walls (within the lidar's range) lost REOPEN_CM2 of their
+        area since its refusal is forgotten (it may have become reachable)."""
         if not self._refused:
             return []
-        walls = self.grid.obstacle_mask(raw=True).ravel()
+        walls = self.grid.obstacle_mask().ravel()
         cell2 = self.grid.cell ** 2
         self._refused = [(p, r, cells) for p, r, cells in self._refused
                          if (~walls[cells]).sum() * cell2 < REOPEN_CM2]
         return [(p, r) for p, r, _ in self._refused]
 
     def _walls_near(self, point: np.ndarray) -> np.ndarray:
-        """Mask (ny, nx) of the scanned walls within the lidar's range of `point`."""
+        """Mask (ny, nx) of the believed walls within the lidar's range of `point`."""
         near = np.sum((self.grid.centres() - point) ** 2, axis=-1) <= float(self.lidar["range"]) ** 2
-        return self.grid.obstacle_mask(raw=True) & near
+        return self.grid.obstacle_mask() & near
 
     def model_error(self, base: float = 0.0) -> float:
         """Relative error of the model's predicted readings on the believed map: `base`

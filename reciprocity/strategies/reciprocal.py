@@ -839,9 +839,9 @@ class ReciprocityStrategy(Strategy):
             super().reject(intent, point, reason, agent)
             return
         radius = max(0.5 * self.d, self.solver.h)
-        self._reachable &= ~self.space.around(point, radius)
         if self.mapping is not None:            # kept across the believed maps to come
-            self.mapping.refuse(point, radius)
+            radius = self.mapping.refuse(point, radius)
+        self._reachable &= ~self.space.around(point, radius)
         self._choose_next()
         self.status.extra["next"] = None if self.done else self._next.tolist()
 

@@ -402,3 +402,50 @@ def test_the_car_passes_a_gap_its_believed_walls_close_and_keeps_its_corridor_fr
         body = car_footprint(pose, spec.length - 2 * SWEEP_MARGIN, spec.width - 2 * SWEEP_MARGIN)
         inside = arenas.Arena.from_polygons(body).contains(grid.centres().reshape(-1, 2)).reshape(mask.shape)
         assert grid.visited[inside].all() and not mask[inside].any()
+
+
+def test_a_refused_target_is_remembered_until_the_walls_near_it_go():
+    true = arenas.Arena.from_polygons(SQUARE, [[[60, 20], [66, 20], [66, 80], [60, 80]]])
+    keeper = MapKeeper(arenas.Arena.from_polygons(SQUARE), {"beams": 64, "range": 40.0, "noise": 0.5})
+    lidar, rng = Lidar(beams=128, range=40.0, noise=0.5), np.random.default_rng(0)
+    for y in (40.0, 50.0, 60.0):
+        scan = lidar.scan(true, (45.0, y, 0.0), rng)
+        keeper.grid.update((45.0, y), scan.angles, scan.ranges, scan.hit, scan.max_range)
+    assert keeper.refuse([75.0, 50.0], 3.0) == 3.0
+    assert [(p.tolist(), r) for p, r in keeper.refused()] == [([75.0, 50.0], 3.0)]
+    scan = lidar.scan(true, (45.0, 30.0, 0.0), rng)                      # more walls seen: still refused
+    keeper.grid.update((45.0, 30.0), scan.angles, scan.ranges, scan.hit, scan.max_range)
+    assert len(keeper.refused()) == 1
+    keeper.grid.sweep([[[55, 45], [62, 45], [62, 46], [55, 46]]])       # a few cm² of wall gone: still refused
+    assert len(keeper.refused()) == 1
+    keeper.grid.sweep([[[55, 46], [62, 46], [62, 52], [55, 52]]])       # a way through: tried again
+    assert keeper.refused() == []
+
+
+def test_refusals_that_cluster_keep_a_growing_region_out():
+    keeper = MapKeeper(arenas.Arena.from_polygons(SQUARE), {"beams": 64, "range": 40.0, "noise": 0.5})
+    radii = [keeper.refuse(p, 3.0) for p in ([70, 70], [74, 70], [80, 72], [60, 60], [20, 20], [90, 90])]
+    assert radii == [3.0, 6.0, 12.0, 20.0, 3.0, 20.0]          # doubled near earlier ones, up to range / 2
+
+
+def test_a_target_the_platform_refused_stays_out_of_reach_after_a_remesh():
+    """``_remesh`` rebuilds the reachable set on the new mesh; the neighbourhoods of the
+    targets the platform refused are taken out of it again."""
+    from reciprocity.env.rollout import Rollout
+    env = SearchEnv("deep_u", world={"map": "unknown"})
+    agent = StrategyAgent(STRATEGIES["reciprocity"], {"h": 2.0})
+    run = Rollout(env, agent)
+    run.start(0)
+    for _ in range(2):
+        run.advance(agent.act())
+    strat = agent.strategy
+    assert not strat.done and strat.mapping.revision >= 1
+    point = strat.space.points[np.flatnonzero(strat._reachable)[len(np.flatnonzero(strat._reachable)) // 2]].copy()
+    strat.reject(Measure(point), point, "behind a gap narrower than twice the clearance")
+    around = lambda: strat.space.around(point, max(0.5 * strat.d, strat.solver.h))
+    assert around().any() and not strat._reachable[around()].any()
+    strat._remesh(strat._here)
+    assert around().any() and not strat._reachable[around()].any()
+    strat.mapping._refused.clear()                                        # forgotten: reachable again
+    strat._remesh(strat._here)
+    assert strat._reachable[around()].any()
