@@ -8,7 +8,7 @@ cell of each beam's hit is seen occupied. From it come the seen region, the fron
 the believed obstacles, for the PDE. A platform that knows where its body has been
 (:meth:`OccupancyGrid.sweep`) keeps those cells free for certain; one that must pass a gap
 the believed walls close may look at the scanned arena (:meth:`OccupancyGrid.scanned_arena`):
-the hit cells as walls, without the believed arena's dilation and gap closing.
+the hit cells as walls, without the believed arena's dilation.
 
 Unknown space is **free** in the believed arena (optimistic): a wall is in the model only
 once a beam has hit it. The field is then computed as if the unseen part were open;
@@ -257,34 +257,35 @@ class OccupancyGrid:
         self.seen |= mask
 
     # ------------------------------------------------------------------ believed map
-    def obstacle_mask(self, raw: bool = False) -> np.ndarray:
+    def obstacle_mask(self, dilate: bool = True) -> np.ndarray:
         """Cells the believed arena treats as walls, shape (ny, nx).
 
         Parameters
         ----------
-        raw : bool
-            False (the believed arena): the occupied cells dilated by one cell (a wall
-            seen from one side is at least three cells thick) and gaps of up to about two
-            cells between them or the boundary closed (no model of a slit the beams
-            cannot resolve). True (the scanned arena): the occupied cells alone.
+        dilate : bool
+            True (the believed arena): the occupied cells dilated by one cell (a wall
+            seen from one side is at least three cells thick). False (the scanned arena):
+            the occupied cells as they are.
 
         Returns
         -------
         ndarray of bool, shape (ny, nx)
-            The walls, less the :attr:`visited` cells, with any pocket of free cells they
+            Those walls with the gaps of up to about two cells between them or the
+            boundary closed (no model of a slit the beams cannot resolve; without the
+            dilation, the holes of up to about four cells between the hits of a wall
+            seen from afar, and not to the boundary), less the :attr:`visited` cells, and with any pocket of free cells they
             cut off from the largest free part filled (the free region of an arena is
             connected).
         """
         from scipy import ndimage
-        if raw:
-            blocked = self.occupied & ~self.visited
-        else:
-            occ = ndimage.binary_dilation(self.occupied, np.ones((3, 3), dtype=bool))
-            blocked = np.pad(occ | ~self.inside, 3, constant_values=True)
-            disk = np.add.outer(np.arange(-2, 3) ** 2, np.arange(-2, 3) ** 2) <= 4
-            closed = ndimage.binary_closing(blocked, disk)[3:-3, 3:-3]
-            # only gaps next to a believed wall are closed (not the boundary's own corners)
-            blocked = (occ | (closed & ndimage.binary_dilation(occ, disk))) & ~self.visited
+        occ = ndimage.binary_dilation(self.occupied, np.ones((3, 3), dtype=bool)) if dilate else self.occupied
+        # undilated walls are closed among themselves only: cells a few cm from the
+        # boundary, joined to it, would touch it at points no valid arena has
+        blocked = np.pad(occ | ~self.inside if dilate else occ, 3, constant_values=dilate)
+        disk = np.add.outer(np.arange(-2, 3) ** 2, np.arange(-2, 3) ** 2) <= 4
+        closed = ndimage.binary_closing(blocked, disk)[3:-3, 3:-3]
+        # only gaps next to a believed wall are closed (not the boundary's own corners)
+        blocked = (occ | (closed & ndimage.binary_dilation(occ, disk))) & ~self.visited
         free = self.inside & ~blocked
         label, n = ndimage.label(free)
         if n > 1:
@@ -292,12 +293,12 @@ class OccupancyGrid:
             free = label == 1 + int(np.argmax(sizes))
         return self.inside & ~free
 
-    def believed_geometry(self, raw: bool = False):
-        """The believed obstacles (of :meth:`obstacle_mask` with `raw`) as one shapely
+    def believed_geometry(self, dilate: bool = True):
+        """The believed obstacles (of :meth:`obstacle_mask` with `dilate`) as one shapely
         geometry (cm), cut to the boundary and simplified to at most
         MAX_BELIEVED_VERTICES vertices; None when they do not fit."""
         from skimage.measure import find_contours
-        mask = np.pad(self.obstacle_mask(raw), 1, constant_values=False)
+        mask = np.pad(self.obstacle_mask(dilate), 1, constant_values=False)
         polys = []
         for c in find_contours(mask.astype(float), 0.5):
             xy = self.origin + (c[:, ::-1] - 1 + 0.5) * self.cell   # (row, col) -> (x, y)
@@ -328,16 +329,18 @@ class OccupancyGrid:
         return arena
 
     def scanned_arena(self) -> Arena:
-        """The outer boundary with the scanned obstacles: the occupied cells as they are
-        (:meth:`obstacle_mask` with ``raw=True``), unknown space free.
+        """The outer boundary with the scanned obstacles: the occupied cells, not dilated
+        (:meth:`obstacle_mask` with ``dilate=False``), unknown space free.
 
-        Walls a cell thinner on each side than in :meth:`believed_arena`, and gaps
-        between them left as the beams saw them: the map to try a path on before a target
-        the believed walls shut out is given up (their dilation closes gaps of twice a
-        platform's clearance plus two cells). Kept, like the believed arena, until the
-        obstacles change by more than MIN_CHANGE_CM2.
+        Walls a cell thinner on each side than in :meth:`believed_arena`: the map to try
+        a path on before a target the believed walls shut out is given up (their dilation
+        narrows every gap by two cells or more, and closes gaps of twice a platform's
+        clearance plus two cells). Only holes of up to about four cells are closed: those
+        between the hits of a wall seen from afar (beams a few cm apart), which no
+        platform of a clearance above one cell passes. Kept, like the believed arena,
+        until the obstacles change by more than MIN_CHANGE_CM2.
         """
-        return self._follow("scanned", self.believed_geometry(raw=True))[0]
+        return self._follow("scanned", self.believed_geometry(dilate=False))[0]
 
     def _follow(self, kind: str, geom) -> tuple[Arena, bool]:
         """The arena of map `kind` after its obstacles became `geom`, and whether it changed."""

@@ -2,7 +2,7 @@
 ``map: unknown``.
 
 :class:`MapKeeper` holds the occupancy grid (:class:`~reciprocity.beliefs.occupancy.OccupancyGrid`)
-built from the platform's range scans and answers the strategy's three questions:
+built from the platform's range scans and answers the strategy's four questions:
 
 - *on which domain is the field computed?* :attr:`MapKeeper.arena`, the outer boundary
   with the believed obstacles, unknown space free (optimistic). It is the same object
@@ -35,10 +35,10 @@ import numpy as np
 from arenas import Arena
 
 from ..beliefs.occupancy import OccupancyGrid
-from ..spaces.occupancy import MIN_CHANGE_CM2
 from ..errors import SearchError
 from ..imaging import ImagingMap
 from ..observations import Observation, scans_of
+from ..spaces.occupancy import MIN_CHANGE_CM2
 
 __all__ = ["MapKeeper", "ShortfallImaging", "UNSEEN_MODEL_ERROR", "MAPPED_MODEL_ERROR", "UNSEEN_SHORTFALL",
            "FRONTIER_SHARE", "SURVEY_SHARE", "FRONTIER_DISCOUNT", "REOPEN_CM2"]

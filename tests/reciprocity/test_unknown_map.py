@@ -359,7 +359,7 @@ def test_the_scanned_walls_keep_a_gap_the_believed_walls_close():
         planner = OnDemandPlanner(arena, rho=15.0, h=1.5, ntheta=48, clearance=4.0, reverse=True, maxsize=1)
         through[name] = bool(_finite_somewhere(planner.get(np.array([80.0, 30.0])), np.array([[20.0, 30.0]]))[0])
     assert through == {"true": True, "believed": False, "scanned": True}
-    raw, believed = grid.obstacle_mask(raw=True), grid.obstacle_mask()
+    raw, believed = grid.obstacle_mask(dilate=False), grid.obstacle_mask()
     assert raw.sum() < believed.sum() and not (raw & ~believed).any()       # thinner, never elsewhere
     assert grid.scanned_arena() is grid.scanned_arena()                      # kept while unchanged
 
@@ -368,7 +368,7 @@ def test_the_cells_a_body_swept_are_never_walls():
     true = arenas.Arena.from_polygons(SQUARE, [[[60, 20], [66, 20], [66, 80], [60, 80]]])
     grid = _scanned_grid(true, [(30.0, 50.0)], beams=128)
     at = lambda mask, x, y: bool(mask[int(y), int(x)])                       # cell 1 cm, origin 0
-    assert at(grid.obstacle_mask(), 58.5, 50.5) and at(grid.obstacle_mask(raw=True), 60.5, 50.5)
+    assert at(grid.obstacle_mask(), 58.5, 50.5) and at(grid.obstacle_mask(dilate=False), 60.5, 50.5)
     body = [[56.0, 40.0], [59.4, 40.0], [59.4, 60.0], [56.0, 60.0]]          # beside the wall, as a car's
     grid.sweep([body])
     believed = grid.obstacle_mask()
