@@ -24,6 +24,7 @@ from dataclasses import asdict, dataclass, fields
 import numpy as np
 
 from arenas import Arena, ArenaError, CarSpec, Testbed
+from arenas.car import car_footprint
 from arenas.files import check_output
 from arenas.testbed import dead_reckon
 from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank, optimal_path, steering
@@ -46,6 +47,17 @@ PLANNERS = ("on-demand", "bank")
 #: a scan per camera frame (30 Hz) would come every 0.3 cm at the car's speed and add
 #: nothing a sensor of tens of cm has not seen.
 SCAN_EVERY = 5.0
+
+#: On an unknown map the cells under the car's body at each pose it drove through (as the
+#: camera estimates it) are free for certain; the body is drawn this much smaller on every
+#: side (cm), for the estimate's error and the car's contacts with walls.
+SWEEP_MARGIN = 0.5
+
+#: The scanned walls (hit cells as they are) reach on average half a cell into the free
+#: space (a wall's surface lies anywhere in the cell its beams hit, and the walls are
+#: traced along the cells' edges): the car keeps its clearance less this share of a cell
+#: from them, its clearance from the true walls on average.
+SCANNED_BIAS_CELLS = 0.5
 
 #: Six bang-bang actions (steer, direction): left / straight / right x forward / reverse.
 ACTIONS = tuple((u, v) for v in (1, -1) for u in (1, 0, -1))
@@ -148,7 +160,20 @@ class CarPlatform(Platform):
         believed walls with unknown space free (optimistic: a path through space no beam
         has seen is tried, and abandoned as soon as a beam sees a wall on it; a conservative
         map would shut the car in its first scan's circle), and re-plans whenever the
-        believed walls change. Needs `lidar` and the on-demand planner.
+        believed walls change. The cells its body drove over stay free in the grid
+        (:meth:`~reciprocity.spaces.occupancy.OccupancyGrid.sweep`), and a target the
+        believed walls shut out (their dilation closes gaps the true walls leave open at
+        the car's clearance) is planned once more on the scanned walls
+        (:meth:`~reciprocity.spaces.occupancy.OccupancyGrid.scanned_arena`) before it is
+        refused. Needs `lidar` and the on-demand planner.
+
+    Attributes
+    ----------
+    arena : Arena
+        The map the car plans on now.
+    walls : {"believed", "scanned"}
+        Which of its maps that is: the believed walls, or (on an unknown map, while it
+        drives to a target they shut out) the scanned ones.
     """
 
     name = "car"
@@ -182,6 +207,12 @@ class CarPlatform(Platform):
             self._value_function = self.planner.get
         self._planner_options = common
         self.grid = OccupancyGrid(self.arena) if mapping else None
+        self.walls = "believed"
+        #: per kind of walls: the map and its planner (on an unknown map)
+        self._maps = {kind: (self.arena, getattr(self, "planner", None)) for kind in ("believed", "scanned")}
+        self._swept: list[np.ndarray] = []
+        self._noted = None
+        self.scanned_plans = 0
         self._scans: list[Observation] = []
         self._since_scan = 0.0
         self.dead_band = 0.05 * rho if o.dead_band is None else float(o.dead_band)
@@ -195,6 +226,7 @@ class CarPlatform(Platform):
         self.last_route = [self.testbed.car.pose[:2].copy()]
         self._collisions_seen = 0
         self._log = self._new_log()
+        self._swept, self._noted, self.scanned_plans = [], None, 0
         self.testbed.take_log()
 
     @property
@@ -207,10 +239,13 @@ class CarPlatform(Platform):
         return self.testbed.car.pose[:2]
 
     def _execute(self, intent: Intent) -> list[Observation]:
-        if not self.arena.contains(intent.point[None])[0]:
+        if not self._in_free_region(intent.point):
             raise UnreachableTarget(intent.point, f"({intent.point[0]:.4g}, {intent.point[1]:.4g}) "
                                     "is not in the free region")
         self._log = self._new_log()
+        if self.grid is not None:
+            self._log["maps"] = []
+            self._plan_on("believed")
         kind = "gradient" if isinstance(intent, SampleGradient) else "signal"
         try:
             if isinstance(intent, Survey):
@@ -281,10 +316,15 @@ class CarPlatform(Platform):
         return dict(reading_noise=total, noise=total, reading_bias=float(shared))
 
     def summary(self) -> dict:
+        """The car's summary keys; on an unknown map also ``scanned_plans``: the drives
+        planned on the scanned walls because the believed ones shut the target out."""
         tb = self.testbed
-        return dict(collisions=len(tb.car.collisions),
-                    driving=asdict(self.options), rho=tb.spec.rho, speed=tb.spec.speed,
-                    calibration_noise=float(tb.calibration.noise))
+        out = dict(collisions=len(tb.car.collisions),
+                   driving=asdict(self.options), rho=tb.spec.rho, speed=tb.spec.speed,
+                   calibration_noise=float(tb.calibration.noise))
+        if self.grid is not None:
+            out["scanned_plans"] = int(self.scanned_plans)
+        return out
 
     # -- bookkeeping -------------------------------------------------------------------
     @staticmethod
@@ -312,7 +352,10 @@ class CarPlatform(Platform):
         self._log["events"].append(dict(time=self.testbed.time, text=text))
 
     def _tick(self, steer: float, direction: int) -> np.ndarray:
-        return self.testbed.tick(steer, direction)
+        est = self.testbed.tick(steer, direction)
+        if self.grid is not None:
+            self._swept.append(est)
+        return est
 
     def _ticks_for(self, distance: float) -> int:
         per_tick = self.testbed.spec.speed * self.testbed.period
@@ -322,7 +365,7 @@ class CarPlatform(Platform):
     def _standable(self, target: np.ndarray) -> np.ndarray:
         """The target, or the nearest point within 3 cm that keeps the clearance (plus
         one grid cell); UnreachableTarget if there is none."""
-        need = self.options.clearance + 0.75 * self.options.h
+        need = self._clearance() + 0.75 * self.options.h
         if self.arena.wall_distance(target[None])[0] >= need and self.arena.contains(target[None])[0]:
             return target
         for r in np.arange(0.5, 3.01, 0.5):
@@ -337,19 +380,8 @@ class CarPlatform(Platform):
 
     def _drive_to(self, target: np.ndarray) -> None:
         o, tb = self.options, self.testbed
-        goal = self._standable(np.asarray(target, dtype=float))
-        try:
-            vf = self._value_for(goal)
-        except PlanningError as exc:
-            raise UnreachableTarget(target, f"no value function for target ({target[0]:.1f}, "
-                                    f"{target[1]:.1f}) cm: {exc}") from None
+        vf = self._plan(np.asarray(target, dtype=float))
         goal = vf.target
-        est = self._virtual(vf, tb.estimate)
-        if not np.isfinite(vf(*est)) and not self._unstick(vf):
-            raise UnreachableTarget(target, (
-                f"target ({target[0]:.1f}, {target[1]:.1f}) cm cannot be reached from the car's "
-                f"pose ({est[0]:.1f}, {est[1]:.1f}): it is enclosed, or behind a gap narrower "
-                f"than twice the clearance of {o.clearance:g} cm"))
         est = self._virtual(vf, tb.estimate)
         budget = 2.0 * float(vf(*est)) + 60.0
         step = tb.spec.speed * tb.period
@@ -363,11 +395,7 @@ class CarPlatform(Platform):
             replan = gear_at is None or since_plan >= o.replan_every or plan_s >= gear_at[0][0]
             if self.lidar is not None and (replan or self._since_scan >= SCAN_EVERY) and self._sense():
                 # the believed walls changed: the target's value function on the new map
-                try:
-                    vf = self._value_for(self._standable(np.asarray(target, dtype=float)))
-                except (PlanningError, UnreachableTarget) as exc:
-                    raise UnreachableTarget(target, f"target ({target[0]:.1f}, {target[1]:.1f}) cm is "
-                                            f"behind walls the car has just seen: {exc}") from None
+                vf = self._replan_target(np.asarray(target, dtype=float))
                 goal, est, replan = vf.target, self._virtual(vf, tb.estimate), True
                 budget = max(budget, driven + 2.0 * float(vf(*est)) + 60.0) if np.isfinite(vf(*est)) else budget
             if replan:
@@ -396,6 +424,114 @@ class CarPlatform(Platform):
                 break  # past the closest approach: stop rather than loop around
             dist = new_dist
 
+    def _plan(self, target: np.ndarray):
+        """The value function the car drives to `target` with, from its pose: on the
+        believed walls, or on an unknown map, when they shut the target out, on the scanned
+        walls (the map it then drives on). Drift into a wall's clearance band is backed
+        out of (:meth:`_unstick`) only when no map has a path from the pose itself.
+        UnreachableTarget when no map has a path."""
+        candidates, failure = [], None
+        for walls in ("believed", "scanned") if self.grid is not None else ("believed",):
+            self._plan_on(walls)
+            try:
+                vf = self._solve(target)
+            except UnreachableTarget as exc:
+                failure = exc
+                continue
+            if np.isfinite(vf(*self._virtual(vf, self.testbed.estimate))):
+                return self._driving_on(walls, vf)
+            candidates.append((walls, vf))
+        for walls, vf in candidates:
+            self._plan_on(walls)
+            est = self._virtual(vf, self.testbed.estimate)
+            if self._unstick(vf):
+                return self._driving_on(walls, vf)
+            failure = UnreachableTarget(target, (
+                f"target ({target[0]:.1f}, {target[1]:.1f}) cm cannot be reached from the car's "
+                f"pose ({est[0]:.1f}, {est[1]:.1f}): it is enclosed, or behind a gap narrower "
+                f"than twice the clearance of {self._clearance():g} cm"))
+        raise failure
+
+    def _solve(self, target: np.ndarray):
+        """The value function of `target` (or the nearest standable point) on the map the
+        car plans on now; UnreachableTarget when there is none."""
+        goal = self._standable(target)
+        try:
+            return self._value_for(goal)
+        except PlanningError as exc:
+            raise UnreachableTarget(target, f"no value function for target ({target[0]:.1f}, "
+                                    f"{target[1]:.1f}) cm: {exc}") from None
+
+    def _replan_target(self, target: np.ndarray):
+        """After the map changed on the way: the target's value function on the new map,
+        or on the scanned walls when the believed ones now shut it out from the pose;
+        UnreachableTarget when neither has it."""
+        failure = vf = None
+        try:
+            vf = self._solve(target)
+        except UnreachableTarget as exc:
+            failure = exc
+        if self.walls == "believed" and self.grid is not None and (
+                vf is None or not np.isfinite(vf(*self._virtual(vf, self.testbed.estimate)))):
+            self._plan_on("scanned")
+            try:
+                alt = self._solve(target)
+                if np.isfinite(alt(*self._virtual(alt, self.testbed.estimate))):
+                    return self._driving_on("scanned", alt)
+            except UnreachableTarget:
+                pass
+            self._plan_on("believed")
+        if vf is None:
+            raise UnreachableTarget(target, f"target ({target[0]:.1f}, {target[1]:.1f}) cm is "
+                                    f"behind walls the car has just seen: {failure}") from None
+        return vf
+
+    def _driving_on(self, walls: str, vf):
+        """Note that the car drives on `walls` with `vf` (returned)."""
+        if walls == "scanned":
+            self.scanned_plans += 1
+            self._event("the believed walls shut the target out: driving on the scanned walls")
+        self._note_map()
+        return vf
+
+    def _plan_on(self, walls: str) -> None:
+        """Plan on `walls` ("believed", or "scanned": brought up to the grid first)."""
+        if walls == "scanned":
+            self._refresh("scanned")
+        arena, planner = self._maps[walls]
+        self.walls = walls
+        if arena is not self.arena:
+            self.arena, self.planner = arena, planner
+            self._value_function = planner.get
+
+    def _refresh(self, walls: str) -> bool:
+        """Bring the map of `walls` up to the grid; True when it changed. A new map that
+        puts the car's position in a wall is not taken."""
+        here = self.testbed.estimate[:2].copy()
+        old = self._maps[walls][0]
+        new = (self.grid.believed_arena() if walls == "believed" else self.grid.scanned_arena()).without_scenario()
+        if new is old or _same_walls(new, old) or not new.contains(here[None])[0]:
+            return False
+        options = dict(self._planner_options, clearance=self._clearance(walls))
+        self._maps[walls] = (new, OnDemandPlanner(new, maxsize=8, **options))
+        return True
+
+    def _clearance(self, walls: str | None = None) -> float:
+        """The clearance the car keeps from `walls` (default: the walls it plans on), cm."""
+        if (walls or self.walls) == "scanned":
+            return self.options.clearance - SCANNED_BIAS_CELLS * self.grid.cell
+        return self.options.clearance
+
+    def _note_map(self) -> None:
+        """Log the walls the car plans on, with the time they became current (for the
+        video), when they differ from the last logged."""
+        if self.grid is None or self.arena is self._noted:
+            return
+        self._noted = self.arena
+        self._log.setdefault("maps", []).append(dict(
+            time=self.testbed.time, walls=self.walls,
+            obstacles=[np.round(np.asarray(o, dtype=float), 3).tolist() for o in self.arena.obstacles]))
+
     def _value_for(self, goal: np.ndarray):
         """The value function the car drives to `goal` with. On demand with a `window`:
         solved in the rectangle of the car and the goal widened by the window, unless the
@@ -420,15 +556,21 @@ class CarPlatform(Platform):
                                        data=scan.as_data()))
         if self.grid is None:
             return False
+        spec = tb.spec
+        bodies = [car_footprint(p, spec.length - 2 * SWEEP_MARGIN, spec.width - 2 * SWEEP_MARGIN)
+                  for p in self._swept if np.all(np.isfinite(p))]
+        self._swept = []
+        self.grid.sweep(bodies)
         self.grid.update(here, scan.angles, scan.ranges, scan.hit, scan.max_range)
-        new = self.grid.believed_arena().without_scenario()
-        if new is self.arena or _same_walls(new, self.arena) or not new.contains(here[None])[0]:
+        changed = self._refresh("believed")
+        if self.walls == "scanned":
+            changed = self._refresh("scanned")
+        if not changed:
             return False
-        self.arena = new
-        self.planner = OnDemandPlanner(new, maxsize=8, **self._planner_options)
-        self._value_function = self.planner.get
+        self._plan_on(self.walls)
+        self._note_map()
         self._event(f"map changed at ({here[0]:.1f}, {here[1]:.1f}): re-planning on "
-                    f"{len(new.obstacles)} believed obstacle(s)")
+                    f"{len(self.arena.obstacles)} {self.walls} obstacle(s)")
         return True
 
     def _virtual(self, vf, est: np.ndarray) -> np.ndarray:
@@ -504,6 +646,13 @@ class CarPlatform(Platform):
     def _drive(self, steer: float, direction: int, distance: float) -> None:
         for _ in range(self._ticks_for(distance)):
             self._tick(steer, direction)
+
+    def _in_free_region(self, point: np.ndarray) -> bool:
+        """Whether `point` lies in the free region of the believed walls, or (on an
+        unknown map) of the scanned ones."""
+        if self._maps["believed"][0].contains(point[None])[0]:
+            return True
+        return self.grid is not None and self.grid.scanned_arena().contains(point[None])[0]
 
     def _free(self, pose: np.ndarray, margin: float) -> bool:
         return bool(self.arena.contains(pose[None, :2], margin)[0])

@@ -5,7 +5,10 @@ the bounding box of the known outer boundary, updated from range scans: the cell
 a scan's visibility polygon (the fan through the measured ranges) are seen free, the
 cell of each beam's hit is seen occupied. From it come the seen region, the frontier
 (seen-free cells next to unseen ones) and the believed arena: the outer boundary with
-the believed obstacles, for the PDE.
+the believed obstacles, for the PDE. A platform that knows where its body has been
+(:meth:`OccupancyGrid.sweep`) keeps those cells free for certain; one that must pass a gap
+the believed walls close may look at the scanned arena (:meth:`OccupancyGrid.scanned_arena`):
+the hit cells as walls, without the believed arena's dilation.
 
 Unknown space is **free** in the believed arena (optimistic): a wall is in the model only
 once a beam has hit it. The field is then computed as if the unseen part were open;
@@ -78,6 +81,9 @@ class OccupancyGrid:
         Cells inside a scan's visibility polygon or holding a hit.
     inside : ndarray of bool, shape (ny, nx)
         Cells whose centre lies inside the outer boundary.
+    visited : ndarray of bool, shape (ny, nx)
+        Cells free for certain: within VISITED_CELLS of a place a scan was taken from,
+        or under a body that was there (:meth:`sweep`). Never walls of a believed map.
     revision : int
         Incremented each time :meth:`believed_arena` changes.
 
@@ -103,7 +109,6 @@ class OccupancyGrid:
         self.nx, self.ny = int(np.ceil((x1 - x0) / cell)), int(np.ceil((y1 - y0) / cell))
         self.logodds = np.zeros((self.ny, self.nx))
         self.seen = np.zeros((self.ny, self.nx), dtype=bool)
-        #: cells within VISITED_CELLS of a place a scan was taken from: free for certain
         self.visited = np.zeros((self.ny, self.nx), dtype=bool)
         centres = self.centres()
         outer = Arena.from_polygons(self.known.boundary)
@@ -112,8 +117,9 @@ class OccupancyGrid:
                                ).reshape(self.ny, self.nx)
         told = self.known.contains(centres.reshape(-1, 2)).reshape(self.ny, self.nx)
         self._told = self.inside & ~told
-        self._arena = self.known
-        self._geometry = unary_union([Polygon(o) for o in self.known.obstacles])
+        told = unary_union([Polygon(o) for o in self.known.obstacles])
+        #: per kind of map ("believed", "scanned"): the arena now and the obstacles it was made of
+        self._maps = {"believed": (self.known, told), "scanned": (self.known, told)}
         self.revision = 0
 
     # ------------------------------------------------------------------ grid
@@ -224,16 +230,58 @@ class OccupancyGrid:
                 self.seen[cells[:, 0], cells[:, 1]] = True
         np.clip(self.logodds, -L_MAX, L_MAX, out=self.logodds)
 
+    def sweep(self, bodies) -> None:
+        """Keep the cells under bodies that have been there free for certain.
+
+        Parameters
+        ----------
+        bodies : sequence of array_like, each shape (k, 2)
+            Polygons an observer's body covered (e.g. a car's footprint at each pose it
+            drove through), cm.
+
+        Notes
+        -----
+        A cell counts as covered when its centre lies inside a body. The cells join
+        :attr:`visited`: they are seen, and never walls of the believed or scanned arena
+        (a body stood there), whatever a noisy hit or the dilation of a wall beside them
+        says. The walls next to a corridor the observer drove stay where they were seen.
+        """
+        from skimage.draw import polygon
+        mask = np.zeros(self.logodds.shape, dtype=bool)
+        for body in bodies:
+            fx, fy = (np.asarray(body, dtype=float)[:, :2] - self.origin).T / self.cell - 0.5
+            rr, cc = polygon(fy, fx, shape=mask.shape)
+            mask[rr, cc] = True
+        mask &= self.inside
+        self.visited |= mask
+        self.seen |= mask
+
     # ------------------------------------------------------------------ believed map
-    def obstacle_mask(self) -> np.ndarray:
-        """Cells the believed arena treats as walls, shape (ny, nx): the occupied cells
-        dilated by one cell (a wall seen from one side is at least three cells thick),
-        gaps of up to about two cells between them or the boundary closed (no model of
-        a slit the beams cannot resolve), and any pocket of free cells they cut off from
-        the largest free part filled (the free region of an arena is connected)."""
+    def obstacle_mask(self, dilate: bool = True) -> np.ndarray:
+        """Cells the believed arena treats as walls, shape (ny, nx).
+
+        Parameters
+        ----------
+        dilate : bool
+            True (the believed arena): the occupied cells dilated by one cell (a wall
+            seen from one side is at least three cells thick). False (the scanned arena):
+            the occupied cells as they are.
+
+        Returns
+        -------
+        ndarray of bool, shape (ny, nx)
+            Those walls with the gaps of up to about two cells between them or the
+            boundary closed (no model of a slit the beams cannot resolve; without the
+            dilation, the holes of up to about four cells between the hits of a wall
+            seen from afar, and not to the boundary), less the :attr:`visited` cells, and with any pocket of free cells they
+            cut off from the largest free part filled (the free region of an arena is
+            connected).
+        """
         from scipy import ndimage
-        occ = ndimage.binary_dilation(self.occupied, np.ones((3, 3), dtype=bool))
-        blocked = np.pad(occ | ~self.inside, 3, constant_values=True)
+        occ = ndimage.binary_dilation(self.occupied, np.ones((3, 3), dtype=bool)) if dilate else self.occupied
+        # undilated walls are closed among themselves only: cells a few cm from the
+        # boundary, joined to it, would touch it at points no valid arena has
+        blocked = np.pad(occ | ~self.inside if dilate else occ, 3, constant_values=dilate)
         disk = np.add.outer(np.arange(-2, 3) ** 2, np.arange(-2, 3) ** 2) <= 4
         closed = ndimage.binary_closing(blocked, disk)[3:-3, 3:-3]
         # only gaps next to a believed wall are closed (not the boundary's own corners)
@@ -245,11 +293,12 @@ class OccupancyGrid:
             free = label == 1 + int(np.argmax(sizes))
         return self.inside & ~free
 
-    def believed_geometry(self):
-        """The believed obstacles as one shapely geometry (cm), cut to the boundary and
-        simplified to at most MAX_BELIEVED_VERTICES vertices; None when they do not fit."""
+    def believed_geometry(self, dilate: bool = True):
+        """The believed obstacles (of :meth:`obstacle_mask` with `dilate`) as one shapely
+        geometry (cm), cut to the boundary and simplified to at most
+        MAX_BELIEVED_VERTICES vertices; None when they do not fit."""
         from skimage.measure import find_contours
-        mask = np.pad(self.obstacle_mask(), 1, constant_values=False)
+        mask = np.pad(self.obstacle_mask(dilate), 1, constant_values=False)
         polys = []
         for c in find_contours(mask.astype(float), 0.5):
             xy = self.origin + (c[:, ::-1] - 1 + 0.5) * self.cell   # (row, col) -> (x, y)
@@ -275,16 +324,35 @@ class OccupancyGrid:
         A geometry that is not a valid arena (obstacles pinching the free region to a
         point) keeps the previous arena.
         """
-        geom = self.believed_geometry()
-        if geom is None or geom.symmetric_difference(self._geometry).area <= MIN_CHANGE_CM2:
-            return self._arena
+        arena, changed = self._follow("believed", self.believed_geometry())
+        self.revision += changed
+        return arena
+
+    def scanned_arena(self) -> Arena:
+        """The outer boundary with the scanned obstacles: the occupied cells, not dilated
+        (:meth:`obstacle_mask` with ``dilate=False``), unknown space free.
+
+        Walls a cell thinner on each side than in :meth:`believed_arena`: the map to try
+        a path on before a target the believed walls shut out is given up (their dilation
+        narrows every gap by two cells or more, and closes gaps of twice a platform's
+        clearance plus two cells). Only holes of up to about four cells are closed: those
+        between the hits of a wall seen from afar (beams a few cm apart), which no
+        platform of a clearance above one cell passes. Kept, like the believed arena,
+        until the obstacles change by more than MIN_CHANGE_CM2.
+        """
+        return self._follow("scanned", self.believed_geometry(dilate=False))[0]
+
+    def _follow(self, kind: str, geom) -> tuple[Arena, bool]:
+        """The arena of map `kind` after its obstacles became `geom`, and whether it changed."""
+        arena, current = self._maps[kind]
+        if geom is None or geom.symmetric_difference(current).area <= MIN_CHANGE_CM2:
+            return arena, False
         for closing in (0.0, 0.5 * self.cell, self.cell):
-            arena = self._arena_of(geom, closing)
-            if arena is not None:
-                self._arena, self._geometry = arena, geom
-                self.revision += 1
-                break
-        return self._arena
+            new = self._arena_of(geom, closing)
+            if new is not None:
+                self._maps[kind] = (new, geom)
+                return new, True
+        return arena, False
 
     def _arena_of(self, geom, closing: float) -> Arena | None:
         """The arena whose obstacles are `geom` closed by `closing` cm (joins obstacles

@@ -2,7 +2,7 @@
 ``map: unknown``.
 
 :class:`MapKeeper` holds the occupancy grid (:class:`~reciprocity.beliefs.occupancy.OccupancyGrid`)
-built from the platform's range scans and answers the strategy's three questions:
+built from the platform's range scans and answers the strategy's four questions:
 
 - *on which domain is the field computed?* :attr:`MapKeeper.arena`, the outer boundary
   with the believed obstacles, unknown space free (optimistic). It is the same object
@@ -19,7 +19,10 @@ built from the platform's range scans and answers the strategy's three questions
   belief mass within reach, discounted by the path to it (:meth:`MapKeeper.frontier_point`):
   the reciprocity strategy surveys it (:class:`~reciprocity.intents.Survey`: the scan
   there tells about the map, with no reading) where the platform takes surveys, and reads
-  there otherwise.
+  there otherwise;
+- *which targets has the platform refused?* :meth:`MapKeeper.refuse` remembers them
+  across the believed maps (each re-mesh rebuilds the reachable set) until the walls near
+  one lose enough area to open a way to it (:meth:`MapKeeper.refused`).
 """
 
 from __future__ import annotations
@@ -35,9 +38,10 @@ from ..beliefs.occupancy import OccupancyGrid
 from ..errors import SearchError
 from ..imaging import ImagingMap
 from ..observations import Observation, scans_of
+from ..spaces.occupancy import MIN_CHANGE_CM2
 
 __all__ = ["MapKeeper", "ShortfallImaging", "UNSEEN_MODEL_ERROR", "MAPPED_MODEL_ERROR", "UNSEEN_SHORTFALL",
-           "FRONTIER_SHARE", "SURVEY_SHARE", "FRONTIER_DISCOUNT"]
+           "FRONTIER_SHARE", "SURVEY_SHARE", "FRONTIER_DISCOUNT", "REOPEN_CM2"]
 
 #: Relative model error added per unit share of the arena not yet seen (the whole arena
 #: unseen: 0.3, a reading may be 30 % off the model's prediction).
@@ -59,6 +63,14 @@ FRONTIER_SHARE = 0.5
 SURVEY_SHARE = FRONTIER_SHARE
 #: Path length (cm) over which a frontier point's score falls by a factor e.
 FRONTIER_DISCOUNT = 100.0
+#: A refused target is tried again once the believed walls within the lidar's range of it
+#: have lost this much of the area they held at the refusal (cm²): walls that appear can
+#: only shut a target out further, walls that go (noisy hits seen through, a gap seen
+#: from nearer) may open the way that was shut. Opening a gap the platform could not pass
+#: takes a strip through a believed wall (three cells thick) two or more cells wide; a
+#: noisy cell that comes and goes is mostly hidden by its neighbours' dilation: twice
+#: MIN_CHANGE_CM2, the change that makes a new believed map.
+REOPEN_CM2 = 2.0 * MIN_CHANGE_CM2
 
 
 class MapKeeper:
@@ -88,6 +100,7 @@ class MapKeeper:
         self.lidar = dict(lidar)
         self.arena = self.grid.believed_arena()
         self._visited = np.empty((0, 2))
+        self._refused: list[tuple[np.ndarray, float, np.ndarray]] = []
 
     @classmethod
     def from_nominal(cls, nominal) -> "MapKeeper | None":
@@ -116,6 +129,42 @@ class MapKeeper:
         changed = new is not self.arena
         self.arena = new
         return changed
+
+    def refuse(self, point, radius: float) -> float:
+        """Remember that the platform refused a target at `point` (cm), and return the
+        radius (cm) of the neighbourhood to keep out of the reachable set of this and
+        every later believed map (until :meth:`refused` lets it go).
+
+        `radius` at first; a target refused within twice the radius of an earlier refusal
+        in force gets twice that one's radius, up to half the lidar's range: refusals
+        that cluster mark a region the platform cannot enter (behind a gap too narrow for
+        it), which point-by-point refusals would spend the search's refusals on.
+        """
+        p = np.asarray(point, dtype=float)[:2]
+        r = float(radius)
+        for q, rq, _ in self._refused:
+            if np.hypot(*(p - q)) <= 2.0 * rq:
+                r = max(r, 2.0 * rq)
+        r = min(r, max(float(radius), 0.5 * float(self.lidar["range"])))
+        self._refused.append((p, r, np.flatnonzero(self._walls_near(p))))
+        return r
+
+    def refused(self) -> list[tuple[np.ndarray, float]]:
+        """The refused targets still in force, ``(point (2,), radius)``, cm; a target
+        whose nearby believed walls (within the lidar's range) lost REOPEN_CM2 of their
+        area since its refusal is forgotten (it may have become reachable)."""
+        if not self._refused:
+            return []
+        walls = self.grid.obstacle_mask().ravel()
+        cell2 = self.grid.cell ** 2
+        self._refused = [(p, r, cells) for p, r, cells in self._refused
+                         if (~walls[cells]).sum() * cell2 < REOPEN_CM2]
+        return [(p, r) for p, r, _ in self._refused]
+
+    def _walls_near(self, point: np.ndarray) -> np.ndarray:
+        """Mask (ny, nx) of the believed walls within the lidar's range of `point`."""
+        near = np.sum((self.grid.centres() - point) ** 2, axis=-1) <= float(self.lidar["range"]) ** 2
+        return self.grid.obstacle_mask() & near
 
     def model_error(self, base: float = 0.0) -> float:
         """Relative error of the model's predicted readings on the believed map: `base`

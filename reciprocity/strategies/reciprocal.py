@@ -592,11 +592,11 @@ class ReciprocityStrategy(Strategy):
         """The believed walls changed (``map: unknown``): the solver on the new believed
         arena (cached: a map seen before is not factorized again), the same readings
         imaged on it with the model error of the map now, and the space and reachable set
-        on its mesh. Rejected targets are forgotten (the point observer, moving in
-        seen-free space, has none). A re-mesh that fails (a geometry Triangle cannot mesh,
-        out of memory) keeps the last good mesh, solver and space, and is counted in
-        ``notes["remesh_failures"]`` (the episode summary's ``remesh_failures``, with the last
-        ``remesh_note``). Reachable: every node at `clearance` from the
+        on its mesh, less the neighbourhoods of the targets the platform refused while
+        the walls near them stay (:meth:`~reciprocity.strategies.mapping.MapKeeper.refused`).
+        A re-mesh that fails (a geometry Triangle cannot mesh, out of memory) keeps the
+        last good mesh, solver and space, and is counted in ``notes["remesh_failures"]``
+        (the episode summary's ``remesh_failures``, with the last ``remesh_note``). Reachable: every node at `clearance` from the
         believed walls, whatever the gaps between them (believed walls are thicker than
         the true ones, so a gap the map closes at `clearance` may be open, and the
         believed free region is connected by construction)."""
@@ -624,7 +624,9 @@ class ReciprocityStrategy(Strategy):
             self.imaging = self.book.rebase(raw, self.space.wall_distance)
         self._node_area = self.space.cell_areas
         self._reachable = self.space.admissible(self.clearance)
-        self._sensing = self._reachable.copy()
+        self._sensing = self._reachable.copy()         # refusals do not narrow what is read from
+        for point, radius in self.mapping.refused():
+            self._reachable &= ~self.space.around(point, radius)
         self._far, self._far_count, self._near_key = np.ones(len(self.space.points), dtype=bool), 0, None
         self._support_key = None
         self._lattice = lattice_greens(self.solver, max(INFO_SPACING, self.solver.h)) \
@@ -873,7 +875,10 @@ class ReciprocityStrategy(Strategy):
         if not len(self.imaging.points):
             super().reject(intent, point, reason, agent)
             return
-        self._reachable &= ~self.space.around(point, max(0.5 * self.d, self.solver.h))
+        radius = max(0.5 * self.d, self.solver.h)
+        if self.mapping is not None:            # kept across the believed maps to come
+            radius = self.mapping.refuse(point, radius)
+        self._reachable &= ~self.space.around(point, radius)
         self._choose_next()
         self.status.extra["next"] = None if self.done else self._next.tolist()
 

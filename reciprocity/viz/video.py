@@ -2,7 +2,7 @@
 
 Each frame shows, at one simulated time, the testbed floor seen from above (the car at
 its true pose, its path so far, the measurements, re-plans, collisions, the true source
-and the next target) and, for strategies with an imaging map, ``P`` after the latest
+and the next target; on an unknown map, the walls the car plans on at that time) and, for strategies with an imaging map, ``P`` after the latest
 completed measurement. The static layers are drawn once; everything that accumulates
 (path, measurements, re-plans, collisions) is drawn once onto a persistent canvas as the
 episode's clock passes it, so a frame costs one copy plus the car and a few markers.
@@ -36,7 +36,11 @@ COLORS = {
     "car": (0, 215, 255), "car_edge": (0, 0, 0), "estimate": (255, 0, 255),
     "header": (30, 30, 30), "text": (240, 240, 240), "imaging_wall": (255, 255, 255),
     "imaging_point": (255, 255, 255),
+    "believed": (190, 40, 150), "scanned": (150, 150, 0),
 }
+
+#: Opacity of the fill of the walls a car plans on (unknown map) over the floor.
+MAP_ALPHA = 0.45
 
 #: Fractional bits of the pixel coordinates handed to OpenCV (sub-pixel drawing).
 SHIFT = 4
@@ -65,6 +69,7 @@ class _Timeline:
     estimates: list            # estimate in force after each record, or None
     nexts: list                # next target after each record, or None
     end: float                 # end of the last record
+    maps: list                 # (time s, kind, [(k, 2) polygons]): walls the car plans on from then
 
     def pose(self, t: float) -> np.ndarray:
         """The true pose at `t`, interpolated between camera frames."""
@@ -95,7 +100,7 @@ def _optional_point(value):
 def _timeline(trace) -> _Timeline:
     """Collect and time-sort what the video draws from a car episode's trace records."""
     times, true, est = [], [], []
-    meas, replans, plans, colls = [], [], [], []
+    meas, replans, plans, colls, maps = [], [], [], [], []
     done, estimates, nexts = [], [], []
     estimate = nxt = None
     clock = 0.0
@@ -120,6 +125,9 @@ def _timeline(trace) -> _Timeline:
             replans.append((r_times[-1], *q))
         for c in _items(rec, "collisions"):
             colls.append((float(c["time"]), float(c["x"]), float(c["y"])))
+        for m in _items(rec, "maps"):
+            maps.append((float(m["time"]), str(m.get("walls", "believed")),
+                         [_array(o, 2) for o in _items(m, "obstacles")]))
         clock = max([clock, *t, *(m[0] for m in meas)])
         ends = r_times[1:] + [clock]
         for t0, t1, line in zip(r_times, ends, _items(rec, "plans")):
@@ -147,7 +155,7 @@ def _timeline(trace) -> _Timeline:
     c = np.array(sorted(colls, key=lambda r: r[0]), dtype=float).reshape(-1, 3)
     return _Timeline(t, p, e, travelled, m[:, 0], m[:, 1:3], m[:, 3].astype(bool),
                      r[:, 0], r[:, 1:3], plans, c[:, 0], c[:, 1:3], np.asarray(done),
-                     estimates, nexts, float(clock))
+                     estimates, nexts, float(clock), sorted(maps, key=lambda m: m[0]))
 
 
 class _Canvas:
@@ -309,6 +317,8 @@ class _Renderer:
         self.frame[:] = COLORS["header"]
         self.right_key = None
         self.drawn = {"pose": 0, "meas": 0, "replan": 0, "coll": 0}
+        self.map_times = np.array([m[0] for m in line.maps], dtype=float)
+        self.map_key, self.map_layer = -1, None
 
     # -- the persistent canvas -----------------------------------------------------------
     def _advance(self, t: float) -> None:
@@ -341,6 +351,7 @@ class _Renderer:
         r0, c0 = self.layout.left
         left = self.frame[r0:r0 + cv.height, c0:c0 + cv.width]
         left[:] = self.trail
+        self._walls(left, t)
         pose = ln.pose(t)
         last = self.drawn["pose"]
         if last:
@@ -359,6 +370,25 @@ class _Renderer:
             self._right(k, done, estimate)
         self._header(t)
         return self.frame
+
+    def _walls(self, img, t: float) -> None:
+        """The walls the car plans on at `t` (unknown map): filled, half transparent, and
+        outlined, in the colour of their kind (believed or scanned)."""
+        i = int(np.searchsorted(self.map_times, t, side="right")) - 1
+        if i < 0:
+            return
+        if i != self.map_key:
+            _, kind, polygons = self.line.maps[i]
+            mask = np.zeros(img.shape[:2], np.uint8)
+            edges = np.zeros(img.shape[:2], np.uint8)
+            rings = [self.canvas.fixed(o) for o in polygons if len(o) > 2]
+            if rings:
+                cv2.fillPoly(mask, rings, 255, cv2.LINE_8, SHIFT)
+                cv2.polylines(edges, rings, True, 255, self.canvas.line, cv2.LINE_8, SHIFT)
+            self.map_key, self.map_layer = i, (mask > 0, edges > 0, np.array(COLORS[kind], float))
+        fill, edge, color = self.map_layer
+        img[fill] = np.round((1 - MAP_ALPHA) * img[fill] + MAP_ALPHA * color).astype(np.uint8)
+        img[edge] = color.astype(np.uint8)
 
     def _car(self, img, pose) -> None:
         cv, spec = self.canvas, CarSpec()
@@ -413,7 +443,9 @@ def write_video(path, episode: Episode, arena: Arena, floor_image: np.ndarray, *
     """Write an MP4 video of a car search episode.
 
     Left: the floor seen from above with the car (true pose, 7 x 3.8 cm, heading mark),
-    its true path so far (blue; green for the gradient strategy), the current planned
+    its true path so far (blue; green for the gradient strategy), on an unknown map the
+    walls the car plans on at that time (purple for its believed walls, olive while it
+    drives on its scanned walls; the true ones stay dark grey), the current planned
     path (light), the camera's estimate of the car (cyan cross), measurement points (red
     circles), re-plans (small light-blue rings), collisions (orange crosses), the true
     source (green star), the strategy's estimate (magenta diamond) and its next target
@@ -428,8 +460,9 @@ def write_video(path, episode: Episode, arena: Arena, floor_image: np.ndarray, *
         Output file; must end in ``.mp4``. Parent folders are created.
     episode : Episode
         A car episode: its trace records carry ``times``, ``true_poses`` and so on
-        (see :class:`reciprocity.platforms.car.CarPlatform`). Records may hold lists
-        instead of arrays (a trace read back from JSON).
+        (see :class:`reciprocity.platforms.car.CarPlatform`), and on an unknown map
+        ``maps``: ``{time, walls, obstacles}`` each time the walls the car plans on
+        change. Records may hold lists instead of arrays (a trace read back from JSON).
     arena : Arena
         The arena of the episode (walls, obstacles and bounds).
     floor_image : ndarray of uint8, shape (H, W)

@@ -331,3 +331,121 @@ def test_a_value_function_bank_needs_a_known_map():
     env = SearchEnv("paper", platform="car", world={"map": "unknown"}, platform_options={"planner": "bank"})
     with pytest.raises(SearchError, match="planner=on-demand"):
         env.reset(seed=0)
+
+
+# -- the car's own map: the corridor it drove, the scanned walls, refused targets ----------
+BOX = [[0, 0], [100, 0], [100, 60], [0, 60]]
+#: a wall across the box with an 11 cm gap: open at the car's 4 cm clearance on the true
+#: walls and on the scanned ones, closed on the believed (dilated) ones
+GAP_WALLS = [[[48, 0], [54, 0], [54, 24.5], [48, 24.5]], [[48, 35.5], [54, 35.5], [54, 60], [48, 60]]]
+
+
+def _scanned_grid(true, positions, beams=64):
+    grid = OccupancyGrid(arenas.Arena.from_polygons(true.boundary))
+    lidar, rng = Lidar(beams=beams, range=40.0, noise=0.5), np.random.default_rng(0)
+    for p in positions:
+        scan = lidar.scan(true, (*p, 0.0), rng)
+        grid.update(p, scan.angles, scan.ranges, scan.hit, scan.max_range)
+    return grid
+
+
+def test_the_scanned_walls_keep_a_gap_the_believed_walls_close():
+    from hjplanner import OnDemandPlanner
+    from reciprocity.platforms.car import _finite_somewhere
+    true = arenas.Arena.from_polygons(BOX, GAP_WALLS)
+    grid = _scanned_grid(true, [(x, y) for x in range(15, 41, 5) for y in (20.0, 30.0, 40.0)])
+    through = {}
+    for name, arena in (("true", true), ("believed", grid.believed_arena()), ("scanned", grid.scanned_arena())):
+        planner = OnDemandPlanner(arena, rho=15.0, h=1.5, ntheta=48, clearance=4.0, reverse=True, maxsize=1)
+        through[name] = bool(_finite_somewhere(planner.get(np.array([80.0, 30.0])), np.array([[20.0, 30.0]]))[0])
+    assert through == {"true": True, "believed": False, "scanned": True}
+    raw, believed = grid.obstacle_mask(dilate=False), grid.obstacle_mask()
+    assert raw.sum() < believed.sum() and not (raw & ~believed).any()       # thinner, never elsewhere
+    assert grid.scanned_arena() is grid.scanned_arena()                      # kept while unchanged
+
+
+def test_the_cells_a_body_swept_are_never_walls():
+    true = arenas.Arena.from_polygons(SQUARE, [[[60, 20], [66, 20], [66, 80], [60, 80]]])
+    grid = _scanned_grid(true, [(30.0, 50.0)], beams=128)
+    at = lambda mask, x, y: bool(mask[int(y), int(x)])                       # cell 1 cm, origin 0
+    assert at(grid.obstacle_mask(), 58.5, 50.5) and at(grid.obstacle_mask(dilate=False), 60.5, 50.5)
+    body = [[56.0, 40.0], [59.4, 40.0], [59.4, 60.0], [56.0, 60.0]]          # beside the wall, as a car's
+    grid.sweep([body])
+    believed = grid.obstacle_mask()
+    assert not believed[40:60, 56:59].any() and grid.visited[40:60, 56:59].all()
+    assert believed[40:60, 59:62].any() and believed[20:40, 58].any()       # the wall itself stays
+
+
+def test_the_car_passes_a_gap_its_believed_walls_close_and_keeps_its_corridor_free():
+    """The true walls leave an 11 cm gap; the car's believed walls close it at its 4 cm
+    clearance once it has seen them. It drives through on its scanned walls (logged, for
+    the video), and every cell under its body on the way stays free in its grid."""
+    from reciprocity.platforms.car import SWEEP_MARGIN, make_car_platform
+    from reciprocity.worlds import PoissonWorld
+    from arenas.car import car_footprint
+    true = arenas.Arena.from_polygons(BOX, GAP_WALLS, name="gap", source=(85.0, 30.0), strength=500.0)
+    world = PoissonWorld(true, h=1.5, believed=arenas.Arena.from_polygons(BOX, name="gap"),
+                         lidar={"beams": 64, "range": 40.0, "noise": 0.5})
+    car = make_car_platform(world, px_per_mm=0.5)
+    car.reset([20.0, 30.0, 0.0], world, np.random.default_rng(3))
+    target = np.array([80.0, 30.0])
+    car.execute(Measure(target))
+    log = car.step_log()
+    assert np.hypot(*(log["true_poses"][-1][:2] - target)) < car.options.stop_tol + 1.5
+    assert car.scanned_plans >= 1 and car.summary()["scanned_plans"] == car.scanned_plans
+    assert any("scanned walls" in e["text"] for e in log["events"])
+    assert [m["walls"] for m in log["maps"]][-1] == "scanned" and log["maps"][-1]["obstacles"]
+    assert len(car.testbed.car.collisions) == 0
+    spec, grid = car.testbed.spec, car.grid
+    mask = grid.obstacle_mask()
+    for pose in log["estimated_poses"][::5]:
+        body = car_footprint(pose, spec.length - 2 * SWEEP_MARGIN, spec.width - 2 * SWEEP_MARGIN)
+        inside = arenas.Arena.from_polygons(body).contains(grid.centres().reshape(-1, 2)).reshape(mask.shape)
+        assert grid.visited[inside].all() and not mask[inside].any()
+
+
+def test_a_refused_target_is_remembered_until_the_walls_near_it_go():
+    true = arenas.Arena.from_polygons(SQUARE, [[[60, 20], [66, 20], [66, 80], [60, 80]]])
+    keeper = MapKeeper(arenas.Arena.from_polygons(SQUARE), {"beams": 64, "range": 40.0, "noise": 0.5})
+    lidar, rng = Lidar(beams=128, range=40.0, noise=0.5), np.random.default_rng(0)
+    for y in (40.0, 50.0, 60.0):
+        scan = lidar.scan(true, (45.0, y, 0.0), rng)
+        keeper.grid.update((45.0, y), scan.angles, scan.ranges, scan.hit, scan.max_range)
+    assert keeper.refuse([75.0, 50.0], 3.0) == 3.0
+    assert [(p.tolist(), r) for p, r in keeper.refused()] == [([75.0, 50.0], 3.0)]
+    scan = lidar.scan(true, (45.0, 30.0, 0.0), rng)                      # more walls seen: still refused
+    keeper.grid.update((45.0, 30.0), scan.angles, scan.ranges, scan.hit, scan.max_range)
+    assert len(keeper.refused()) == 1
+    keeper.grid.sweep([[[55, 45], [62, 45], [62, 46], [55, 46]]])       # a few cm² of wall gone: still refused
+    assert len(keeper.refused()) == 1
+    keeper.grid.sweep([[[55, 46], [62, 46], [62, 52], [55, 52]]])       # a way through: tried again
+    assert keeper.refused() == []
+
+
+def test_refusals_that_cluster_keep_a_growing_region_out():
+    keeper = MapKeeper(arenas.Arena.from_polygons(SQUARE), {"beams": 64, "range": 40.0, "noise": 0.5})
+    radii = [keeper.refuse(p, 3.0) for p in ([70, 70], [74, 70], [80, 72], [60, 60], [20, 20], [90, 90])]
+    assert radii == [3.0, 6.0, 12.0, 20.0, 3.0, 20.0]          # doubled near earlier ones, up to range / 2
+
+
+def test_a_target_the_platform_refused_stays_out_of_reach_after_a_remesh():
+    """``_remesh`` rebuilds the reachable set on the new mesh; the neighbourhoods of the
+    targets the platform refused are taken out of it again."""
+    from reciprocity.env.rollout import Rollout
+    env = SearchEnv("deep_u", world={"map": "unknown"})
+    agent = StrategyAgent(STRATEGIES["reciprocity"], {"h": 2.0})
+    run = Rollout(env, agent)
+    run.start(0)
+    for _ in range(2):
+        run.advance(agent.act())
+    strat = agent.strategy
+    assert not strat.done and strat.mapping.revision >= 1
+    point = strat.space.points[np.flatnonzero(strat._reachable)[len(np.flatnonzero(strat._reachable)) // 2]].copy()
+    strat.reject(Measure(point), point, "behind a gap narrower than twice the clearance")
+    around = lambda: strat.space.around(point, max(0.5 * strat.d, strat.solver.h))
+    assert around().any() and not strat._reachable[around()].any()
+    strat._remesh(strat._here)
+    assert around().any() and not strat._reachable[around()].any()
+    strat.mapping._refused.clear()                                        # forgotten: reachable again
+    strat._remesh(strat._here)
+    assert strat._reachable[around()].any()

@@ -188,3 +188,34 @@ def test_bad_inputs_raise(tmp_path, arena, floor, episode):
     (tmp_path / "taken.mp4").mkdir()
     with pytest.raises(SearchError, match="cannot open"):
         write_video(tmp_path / "taken.mp4", episode, arena, floor)
+
+
+def test_the_walls_the_car_plans_on_are_drawn_from_the_time_they_became_current(tmp_path, arena, floor, episode):
+    """An unknown map: the trace's ``maps`` (believed walls from 1 s, scanned walls from
+    3 s) are drawn over the floor from their time on; the true walls stay as they were."""
+    believed = [[2.0, 20.0], [10.0, 20.0], [10.0, 28.0], [2.0, 28.0]]
+    scanned = [[28.0, 12.0], [32.0, 12.0], [32.0, 16.0], [28.0, 16.0]]
+    trace = [dict(r) for r in episode.trace]
+    trace[0]["maps"] = [{"time": 1.0, "walls": "believed", "obstacles": [believed]}]
+    trace[1]["maps"] = [{"time": 3.0, "walls": "scanned", "obstacles": [scanned]}]
+    mapped = Episode(episode.summary, trace)
+    out = write_video(tmp_path / "map.mp4", mapped, arena, floor, fps=FPS, speedup=SPEEDUP, px_per_cm=PX)
+    frames = [f.astype(int) for f in _read(out)]
+    h = frames[0].shape[0]
+    header = h - 30 * PX - h % 2
+
+    def pixel(frame, x, y):
+        col, row = arenas.world_to_pixel([x, y], 1 / PX, 30 * PX)[0]
+        return frame[header + int(row), int(col)]
+
+    def tinted(p, kind):                       # towards the kind's colour from a grey floor
+        b, g, r = p
+        return b - g > 25 and r - g > 10 if kind == "believed" else b - r > 25 and g - r > 25
+
+    at = {t: int(round(t * FPS / SPEEDUP)) for t in (0.5, 1.5, 3.5)}
+    assert not tinted(pixel(frames[at[0.5]], 6, 24), "believed")           # not yet current
+    assert tinted(pixel(frames[at[1.5]], 6, 24), "believed")
+    assert not tinted(pixel(frames[at[1.5]], 30, 14), "scanned")
+    assert tinted(pixel(frames[at[3.5]], 30, 14), "scanned")
+    assert not tinted(pixel(frames[at[3.5]], 6, 24), "believed")           # replaced by the scanned walls
+    cv2.imwrite(str(tmp_path / "frame.png"), frames[at[3.5]].astype(np.uint8))
