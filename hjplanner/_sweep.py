@@ -257,100 +257,81 @@ def _update_layer(phi, tmin, k, off_i, off_j, w, inv_self, kk, src, cost, adm, r
 
 
 @njit(cache=True, nogil=True)
-def stencil_masks(distance, free, clearance, ci, cj, corner_dist, reach, group, length):
-    """Bitmask (ntheta, nx, ny) of the stencils whose arc is certified clear of the walls.
+def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach):
+    """Bitmask (ntheta, nx, ny) of the stencils whose arc is clear of the walls.
 
-    Bit c of ``adm[k, i, j]`` is set when every point of the arc of stencil
-    c, of length ``length[c]``, from the free node (i, j) at heading k is
-    certified at least ``clearance`` from every wall.  The arcs of one
-    steering and direction (``group[c]``) are prefixes of the group's
-    longest arc, of length ``reach[g]``, so they are decided together: an
-    arc is clear when it is no longer than the certified prefix of its
-    group's longest arc.
-
-    The certified prefix grows from the node, whose wall distance ``d0`` is
-    known: every point of the arc within arc length ``F = d0 - clearance``
-    of it keeps the clearance.  The check points m of the longest arc (at
-    arc length ``reach[g] m / (nq - 1)``, in cell ``(i + ci, j + cj)`` at
-    ``corner_dist`` from its corners) then extend it: the first one at or
-    beyond ``F``, at arc length ``p``, has a certified wall distance ``B``
-    (see :mod:`hjplanner._grid`) and, the wall distance being 1-Lipschitz,
-    every point of the arc within arc length ``B - clearance`` of it keeps
-    the clearance.  If that reaches back to ``F`` (``B >= clearance + p -
-    F``) the prefix grows to ``p + B - clearance``, otherwise, or if the
-    check point is off the grid, it ends at ``F``.  Far from the walls a
-    check point certifies a long stretch, so few are read.
-
-    Parameters
-    ----------
-    distance, free : numpy.ndarray
-        Signed wall distance at the nodes and free-node mask (nx, ny).
-    clearance : float
-        Wall distance every arc keeps (length unit).
-    ci, cj : numpy.ndarray
-        (ntheta, ngroups, nq) int: lower corner of the cell of each check
-        point, relative to the start node.
-    corner_dist : numpy.ndarray
-        (ntheta, ngroups, nq, 4) distance of each check point to the
-        corners (0,0), (0,1), (1,0), (1,1) of its cell (length unit).
-    reach : numpy.ndarray
-        (ngroups,) length of each group's longest arc.
-    group, length : numpy.ndarray
-        (nc,) group and arc length of each stencil.
-
-    Returns
-    -------
-    numpy.ndarray
-        (ntheta, nx, ny) uint32 bitmask; 0 at blocked nodes.
+    Bit c of ``adm[k, i, j]`` is set when the arc of control c from the free
+    node (i, j) at heading k stays at the clearance: either the node is
+    farther than ``clearance + reach[c]`` from every wall (the arc is
+    shorter than ``reach[c]``), or its middle sample has a certified wall
+    distance of at least ``margin[c]`` plus the arc length from it to the
+    farther end (the whole arc lies in that disk), or every sample m of
+    the arc, in cell ``(i + ci, j + cj)`` at ``corner_dist`` from its
+    corners, has a certified wall distance of at least ``margin[c]`` or
+    lies within the disk of radius ``bound - margin[c]`` around an earlier
+    sample of certified distance ``bound`` (a point of that disk is at
+    least ``margin[c]`` from every wall, the wall distance being
+    1-Lipschitz); samples in such disks are skipped.
     """
-    nt, ng, nq = ci.shape
-    last = nq - 1
-    nc = group.shape[0]
+    nt, nc, nm = ci.shape
     nx, ny = distance.shape
     adm = np.zeros((nt, nx, ny), np.uint32)
     every = np.uint32((1 << nc) - 1)
     far = clearance + reach.max()
-    near_i = np.empty(nx * ny, np.int64)
-    near_j = np.empty(nx * ny, np.int64)
-    n_near = 0
+    mid = (nm - 1) // 2
+    half = (nm - 1 - mid) / (nm - 1)  # arc length from the middle sample to the farther end / reach
     for i in range(nx):
         for j in range(ny):
-            if free[i, j] and distance[i, j] < far:
-                near_i[n_near], near_j[n_near] = i, j
-                n_near += 1
-    for k in range(nt):
-        layer = adm[k]
-        for i in range(nx):
-            for j in range(ny):
-                if free[i, j] and distance[i, j] >= far:  # every arc is shorter than the distance to the walls
-                    layer[i, j] = every
-        for p in range(n_near):
-            i, j = near_i[p], near_j[p]
+            if not free[i, j]:
+                continue
             d0 = distance[i, j]
-            bits = np.uint32(0)
-            for g in range(ng):
-                front = d0 - clearance
-                while front < reach[g]:
-                    # the first check point at or beyond the front
-                    m = min(int(np.ceil(front * last / reach[g])), last)
-                    a = i + ci[k, g, m]
-                    b = j + cj[k, g, m]
-                    if a < 0 or b < 0 or a > nx - 2 or b > ny - 2:
-                        break
-                    bound = -np.inf
-                    for corner in range(4):
-                        value = distance[a + corner // 2, b + corner % 2] - corner_dist[k, g, m, corner]
-                        if value > bound:
-                            bound = value
-                    at = reach[g] * m / last
-                    grown = at + bound - clearance
-                    if bound < clearance + at - front or grown <= front:
-                        break
-                    front = grown
+            if d0 >= far:  # every arc is shorter than the distance to the walls
+                for k in range(nt):
+                    adm[k, i, j] = every
+                continue
+            for k in range(nt):
+                bits = np.uint32(0)
                 for c in range(nc):
-                    if group[c] == g and length[c] <= front:
+                    ok = d0 >= clearance + reach[c]
+                    if not ok:
+                        a = i + ci[k, c, mid]
+                        b = j + cj[k, c, mid]
+                        if a >= 0 and b >= 0 and a <= nx - 2 and b <= ny - 2:
+                            bound = -np.inf
+                            for corner in range(4):
+                                value = distance[a + corner // 2, b + corner % 2] - corner_dist[k, c, mid, corner]
+                                if value > bound:
+                                    bound = value
+                            ok = bound >= margin[c] + reach[c] * half
+                    if not ok:
+                        ok = True
+                        step = reach[c] / (nm - 1)  # arc length between samples
+                        covered = -1.0  # samples up to this index lie in the certified disk of a checked one
+                        m = 0
+                        while m < nm:
+                            a = i + ci[k, c, m]
+                            b = j + cj[k, c, m]
+                            if a < 0 or b < 0 or a > nx - 2 or b > ny - 2:
+                                ok = False
+                                break
+                            bound = -np.inf
+                            for corner in range(4):
+                                value = distance[a + corner // 2, b + corner % 2] - corner_dist[k, c, m, corner]
+                                if value > bound:
+                                    bound = value
+                            if bound < margin[c]:
+                                if m <= covered:
+                                    m += 1
+                                    continue
+                                ok = False
+                                break
+                            if bound - margin[c] >= reach[c] * (nm - 1 - m) / (nm - 1):
+                                break  # the rest of the arc lies in the certified disk around this sample
+                            covered = max(covered, m + (bound - margin[c]) / step)
+                            m += max(1, int((bound - margin[c]) / step))
+                    if ok:
                         bits |= np.uint32(1) << np.uint32(c)
-            layer[i, j] = bits
+                adm[k, i, j] = bits
     return adm
 
 

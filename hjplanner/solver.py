@@ -19,9 +19,6 @@ from .value_function import ValueFunction
 
 __all__ = ["solve", "SolverOptions"]
 
-#: Check points of the clear-arc masks lie this fraction of the clearance sample spacing apart.
-CHECK_FRACTION = 0.25
-
 
 @dataclass(frozen=True)
 class Workspace:
@@ -100,9 +97,8 @@ def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], d
     the weights ``w[..., 0:4]`` (order (0,0), (0,1), (1,0), (1,1)).  A weight
     on the node itself is moved to the left-hand side: ``inv_self = 1/(1 - w_self)``.
     ``adm`` (ntheta, nx, ny) is the bitmask of
-    :func:`hjplanner._sweep.stencil_masks`: the arcs certified clear of the
-    walls, checked along the longest arc of each steering and direction at
-    points ``CHECK_FRACTION`` of the clearance sample spacing apart.
+    :func:`hjplanner._sweep.stencil_masks`: the arcs clear of the walls, at
+    the samples also used by :func:`hjplanner._motion.arcs_are_clear`.
     """
     theta = grid.theta
     nt, nc = grid.ntheta, len(ctrl)
@@ -128,20 +124,16 @@ def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], d
                 inv_self[k, c] = 1.0 / (1.0 - w[k, c, corner])
                 w[k, c, corner] = 0.0
     pad = int(max(np.abs(off_i).max(), np.abs(off_j).max())) + 2
-    # The arcs of one steering and direction are prefixes of the longest of them, their group's leader;
-    # its check points for the clear-arc masks, relative to the start node (in grid units).
-    keys = sorted({(v[c], u[c]) for c in range(nc)}, key=lambda key: (-key[0], key[1] != 0, key[1]))
-    group = np.array([keys.index((v[c], u[c])) for c in range(nc)], dtype=np.int64)
-    reach = np.array([s[group == g].max() for g in range(len(keys))])
-    lead_v, lead_u = (np.array(column, dtype=float) for column in zip(*keys))
-    ng = len(keys)
-    points = arc_samples(np.repeat(starts, ng, axis=0), np.tile(lead_u, nt), np.tile(lead_v, nt),
-                         np.tile(reach, nt), rho, CHECK_FRACTION * sample_spacing(grid.h)) / grid.h
-    points = points.reshape(nt, ng, -1, 2)
+    # Clearance samples of every arc, relative to its start node (in grid units).
+    spacing = sample_spacing(grid.h)
+    points = arc_samples(np.repeat(starts, nc, axis=0), np.tile(u, nt), np.tile(v, nt), np.tile(s, nt), rho,
+                         spacing) / grid.h
+    points = points.reshape(nt, nc, -1, 2)
     ci, cj = np.floor(points[..., 0]).astype(np.int64), np.floor(points[..., 1]).astype(np.int64)
     corner_dist = grid.h * np.stack([np.hypot(points[..., 0] - ci - a, points[..., 1] - cj - b)
                                      for a, b in ((0, 0), (0, 1), (1, 0), (1, 1))], axis=-1)
-    adm = _sweep.stencil_masks(distance, free, float(clearance), ci, cj, corner_dist, reach, group, s)
+    margin = clearance + 0.5 * s / (points.shape[2] - 1)
+    adm = _sweep.stencil_masks(distance, free, float(clearance), ci, cj, corner_dist, margin, s)
     # Visit each layer against its forward straight motion (see _sweep).
     rev_i = np.cos(theta) >= 0
     rev_j = np.sin(theta) >= 0
