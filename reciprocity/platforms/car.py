@@ -345,6 +345,8 @@ class CarPlatform(Platform):
 
     def _measure(self):
         m = self.testbed.dwell(self.options.dwell)
+        if self.grid is not None:                  # it stood there: its body's cells are free
+            self._swept.append(self.testbed.estimate.copy())
         self._log["measurements"].append(m.to_dict())
         return m
 
