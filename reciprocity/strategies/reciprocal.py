@@ -705,6 +705,11 @@ class ReciprocityStrategy(Strategy):
             self.status.extra["p_more"] = more
             if more < self.more_tol and book.next_unconfirmed(self._converged) is None:
                 why = "as many as the task allows" if book.full else f"probability of one more {more:.3f} < more_tol"
+                if not book.full:       # the unreachable rule for the next source
+                    out = self._more_out_of_reach()
+                    self.notes["more_out_of_reach"] = round(out, 4)
+                    if out >= 1.0 - UNREACH_MASS:
+                        why += f"; one more lies out of reach with probability {out:.3f}"
                 self.stop(StopReason.CONVERGED, f"{found} source{'s' if found > 1 else ''} found; {why}")
             self.imaging = book.active
         if self.done:
@@ -719,6 +724,17 @@ class ReciprocityStrategy(Strategy):
             if not self.done:
                 self._choose_next()
         self.status.extra["next"] = None if self.done else self._next.tolist()
+
+    def _more_out_of_reach(self) -> float:
+        """The posterior probability of one more source out of reach: of one more anywhere
+        in the free region, times the share of its mass outside :meth:`_survey_support`."""
+        book, unseen = self.book, self._unseen()
+        everywhere = np.ones(len(self.space.points), dtype=bool)
+        total = float(book.hidden(everywhere, self._node_area, unseen).sum())
+        if total <= 0:
+            return 0.0
+        within = float(book.hidden(self._survey_support(), self._node_area, unseen).sum())
+        return book.more_probability(everywhere, self._node_area, unseen) * max(0.0, 1.0 - within / total)
 
     def _converged(self, im: ImagingMap) -> bool:
         """Step 12 for map `im`: its region below `area_tol`, within `extent_tol` of its
