@@ -12,6 +12,10 @@ import duckdb
 from reciprocity.campaign import load_spec
 from reciprocity.campaign.store import episodes_sql, result_files
 
+#: A safety net against a hung subprocess only, never a performance bound: the resumed
+#: campaign's work is bounded by its 80 episodes.
+HANG_S = 600
+
 # a new random lattice per seed (~0.1 s an episode): 80 episodes outlast the driver's
 # first 5-second batch, so the kill lands between batches
 SPEC = """\
@@ -48,7 +52,7 @@ def test_a_killed_campaign_command_resumes_with_no_episode_lost_or_repeated(tmp_
     before = con.execute(f"SELECT count(*) FROM {episodes_sql(out)}").fetchone()[0]
     assert 0 < before < 80
 
-    again = subprocess.run(_command(spec, out), capture_output=True, text=True, timeout=600)
+    again = subprocess.run(_command(spec, out), capture_output=True, text=True, timeout=HANG_S)
     assert again.returncode == 0, again.stderr
     assert f"{80 - before} episodes run (0 failed), {before} already in" in again.stdout
 
