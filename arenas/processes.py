@@ -21,9 +21,19 @@ __all__ = ["die_with_parent", "WATCH_S"]
 WATCH_S = 1.0
 
 
-def die_with_parent() -> None:
-    """End this process (exit code 1) as soon as its parent process ends."""
-    parent = os.getppid()
+def die_with_parent(parent: int | None = None) -> None:
+    """End this process (exit code 1) as soon as its parent process ends.
+
+    Parameters
+    ----------
+    parent : int, optional
+        The parent's process id, as the parent saw it (``os.getpid()`` there) when it
+        started this process. Pass it: a parent killed while this process was still
+        starting has already been replaced by another (``os.getppid()`` then names an
+        adoptive process), and only the id known beforehand tells. Default: the parent
+        now.
+    """
+    parent = os.getppid() if parent is None else int(parent)
     with contextlib.suppress(Exception):
         import ctypes
         import signal

@@ -123,8 +123,8 @@ def _set_workspace(args: tuple) -> None:
     and parameters its owner passed (nothing is read from a file, nothing unpickled from
     disk), and dies with its owner."""
     global _WORKSPACE
-    die_with_parent()
-    domain, rho, h, ntheta, clearance, reverse, options = args
+    owner, domain, rho, h, ntheta, clearance, reverse, options = args
+    die_with_parent(owner)
     _WORKSPACE = prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options)
 
 
@@ -150,7 +150,7 @@ def _start_pool(workers: int, initargs: tuple) -> ProcessPoolExecutor | None:
         return None
     # spawn: no inherited threads or locks from the parent, the same on every OS.
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
-                               initializer=_set_workspace, initargs=(initargs,))
+                               initializer=_set_workspace, initargs=((os.getpid(), *initargs),))
     ready = pool.submit(os.getpid)
     deadline = time.monotonic() + STARTUP_TIMEOUT
     while True:
