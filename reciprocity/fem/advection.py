@@ -121,7 +121,7 @@ class AdvectionSolver:
         self.tau = np.inf if tau == np.inf else _positive(tau, "lifetime tau (s)")
         if h is None:
             h = wind.solver.h if wind.solver is not None else 1.0
-        if wind.solver is not None and wind.solver.arena is not arena:
+        if wind.solver is not None and not _same_walls(wind.solver.arena, arena):
             raise ReciprocityError("the wind's potential was solved on another arena; build it with "
                                    "WindField.potential(arena, ...) on this arena")
         #: The finite-element space: mesh, P1 basis, point location, probes and point loads.
@@ -208,7 +208,7 @@ class AdvectionSolver:
                                    f"region of arena {self.arena.name!r}; choose a point in the free region")
         loc = _inverse_map(basis.mapping, pts.T[:, :, None], cells)
         fields = [basis.elem.gbasis(basis.mapping, loc, k, tind=cells)[0] for k in range(basis.Nbfun)]
-        values = np.array([f.value[:, 0] for f in fields])                  # (Nbfun, n)
+        values = np.array([np.asarray(f)[:, 0] for f in fields])                  # (Nbfun, n)
         if self.supg:
             grads = [f.grad[:, :, 0] for f in fields]
             u = self.wind(pts).T
@@ -320,6 +320,12 @@ class AdvectionSolver:
     def __repr__(self) -> str:
         return (f"AdvectionSolver(arena={self.arena.name!r}, D={self.D}, tau={self.tau}, walls={self.walls!r}, "
                 f"h={self.h}, unknowns={self.n_unknowns})")
+
+
+def _same_walls(a: Arena, b: Arena) -> bool:
+    """The two arenas have the same boundary and obstacles."""
+    return (np.array_equal(a.boundary, b.boundary) and len(a.obstacles) == len(b.obstacles)
+            and all(np.array_equal(p, q) for p, q in zip(a.obstacles, b.obstacles)))
 
 
 class _SourceReading:
