@@ -86,18 +86,25 @@ class AdvectionSolver:
 
     **Stabilisation.** The last sum is SUPG (Brooks & Hughes 1982) with
     ``τ_K = 1/(Σ_i |u·∇φ_i| + SUPG_DIFFUSION D/h_K² + 1/τ)``, ``h_K`` the longest edge.
-    The point source is loaded as ``φ_i(x_s)`` without the SUPG test term
-    ``τ_K u·∇φ_i(x_s)``, so that a source and a reading are the same functional and
-    reciprocity holds exactly (below).
+    Only P1 elements are offered (``Δc = 0`` in each triangle; P2 would need the
+    elements' second derivatives in the residual). The point source is loaded
+    consistently, with the SUPG test function at the source: row ``b(x_s)`` of
+    :meth:`source_matrix`, ``φ_i(x_s) + τ_K u·∇φ_i(x_s)``. A reading is the point value
+    ``p(z)``, ``p_i(z) = φ_i(z)``.
 
     **Discrete adjoint.** The stabilised matrix ``A`` is not symmetric. The adjoint solve
     uses ``Aᵀ``, the adjoint of the discretisation, not a discretisation of ``L*``: one
-    LU factorization of ``A`` serves both (SuperLU's transposed solve) and
-    ``forward(x)(z) = p(z)ᵀ A⁻¹ p(x) = p(x)ᵀ A⁻ᵀ p(z) = adjoint(z)(x)`` to round-off,
-    where ``p(x)`` holds the basis values at ``x``. ``Aᵀ`` applies the streamline test
-    upwind of the reversed wind (the wrong side for ``L*``), which is adjoint-inconsistent
-    (Collis & Heinkenschloss 2002): the adjoint field's pointwise accuracy is that of the
-    forward field it equals, not that of an optimal SUPG discretisation of ``L*``.
+    LU factorization of ``A`` serves both (SuperLU's transposed solve), and the adjoint
+    field of a reading at ``z`` is read at a source position ``x`` through the same load
+    ``b(x)``, so that::
+
+        forward(x)(z) = p(z)ᵀ A⁻¹ b(x) = b(x)ᵀ A⁻ᵀ p(z) = adjoint(z)(x)
+
+    to round-off. ``Aᵀ`` applies the streamline test on the upwind side of the reversed
+    wind, the wrong side for ``L*``: SUPG is adjoint-inconsistent (Collis & Heinkenschloss
+    2002): the adjoint's nodal values, as a P1 field, converge to the adjoint Green's
+    function at a lower order than the forward field (``benchmarks/advection.md``), but
+    read through ``b(x)`` they are the forward field exactly, with its order.
 
     Examples
     --------
