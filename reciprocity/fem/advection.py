@@ -218,7 +218,7 @@ class AdvectionSolver:
         values = np.array([np.asarray(f)[:, 0] for f in fields])                  # (Nbfun, n)
         if self.supg:
             grads = [f.grad[:, :, 0] for f in fields]
-            u = self.wind(pts).T
+            u = np.nan_to_num(self.wind(pts).T)   # a point off the wind's own mesh: no wind
             tau = self._tau_k(u, grads, cells)
             values = values + tau * np.array([u[0] * g[0] + u[1] * g[1] for g in grads])
         rows = np.tile(np.arange(len(pts)), basis.Nbfun)
@@ -258,6 +258,9 @@ class AdvectionSolver:
             centroid = mesh.p[:, mesh.t[:, cells]].mean(axis=1).T
             pts = pts + 1e-6 * (centroid - pts)
             cells = self.wind.solver.locate(pts)
+            lost = cells < 0                  # off the wind's mesh (a curved wall): its triangle's centroid
+            pts[lost] = centroid[lost]
+            cells[lost] = self.wind.solver.locate(pts[lost])
         return self.wind._gradient_in_cells(pts, cells).T.reshape(x.shape)
 
     def factorize(self) -> "AdvectionSolver":
