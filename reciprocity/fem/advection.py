@@ -119,6 +119,8 @@ class AdvectionSolver:
 
     def __init__(self, arena: Arena, wind: WindField, D: float, tau: float, *, h: float | None = None,
                  walls: str = "impermeable", supg: bool = True):
+        if not isinstance(arena, Arena):
+            raise ReciprocityError(f"arena must be an arenas.Arena (see arenas.load); got {type(arena).__name__}")
         if not isinstance(wind, WindField):
             raise ReciprocityError(f"wind must be a WindField (WindField.potential or WindField.uniform); "
                                    f"got {type(wind).__name__}")
