@@ -13,9 +13,11 @@ closed-form Green's functions the solver is checked against.
 import lazy_loader as _lazy
 
 __getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={
-    "exact": ["disk_green", "free_space_green"],
+    "advection": ["AdvectionSolver", "WALL_KINDS"],
+    "exact": ["disk_green", "free_space_advection_green", "free_space_green"],
     "green": ["Field", "GreenSolver", "GREEN_CACHE_SIZE"],
     "disk_cache": ["cache_dir"],
+    "wind": ["WindField"],
     "mesh": ["MAX_TRIANGLES", "cached_mesh", "mesh_free_region", "node_areas", "reentrant_corners", "triangle_areas",
              "triangle_budget"],
 })
