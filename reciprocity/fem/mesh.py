@@ -122,6 +122,15 @@ def triangle_budget(arena: Arena, h: float) -> int:
     return int(min(MESH_TRIANGLES_FACTOR * uniform + MESH_TRIANGLES_SLACK + 2 * n_vertices, MAX_TRIANGLES))
 
 
+def _area_switch(area: float) -> str:
+    """`area` as Triangle's ``a`` switch reads it: ten significant digits, never in exponent
+    form (Triangle reads ``a2.54e-05`` as ``a2.54`` and meshes far coarser, silently)."""
+    text = f"{area:.10g}"
+    if "e" in text:
+        text = np.format_float_positional(area, precision=10, unique=False, fractional=False, trim="-")
+    return text
+
+
 def _triangulate(pslg: dict, switches: str, budget: int) -> dict:
     """Triangle with at most `budget` triangles (its ``S`` switch bounds the added points;
     a triangulation has fewer than twice its points), its failures as MeshError."""
@@ -197,7 +206,7 @@ def mesh_free_region(arena: Arena, h: float, *, grading: float | None = 0.5,
         least = (arena.area * MESH_TRIANGLES_FACTOR / (_AREA_PER_H2 * MAX_TRIANGLES)) ** 0.5
         raise MeshError(f"h={h} cm would need about {n_est:.2g} triangles; use h >= {least:.3g} cm")
     budget = triangle_budget(arena, h)
-    switches = f"pq30a{_AREA_PER_H2 * h * h:.10g}"
+    switches = f"pq30a{_area_switch(_AREA_PER_H2 * h * h)}"
     try:
         mesh = _triangulate(_pslg(arena, h, arena.free_region), switches, budget)
         _refuse_degenerate(mesh, h)

@@ -130,3 +130,14 @@ def test_meshing_retries_without_spikes_when_triangle_fails(monkeypatch):
     monkeypatch.setattr(triangle, "triangulate", first_fails)
     mesh = mesh_free_region(arenas.load("maze"), 3.0, grading=None)
     assert len(calls) == 2 and mesh.t.shape[1] > 100
+
+
+def test_a_fine_mesh_is_as_fine_as_asked():
+    """Triangle's area switch never goes out in exponent form (``a2.54e-05`` read as
+    ``a2.54``: a mesh 100 times coarser than asked, silently)."""
+    from reciprocity.fem.mesh import _AREA_PER_H2, _area_switch
+    assert _area_switch(2.54e-05) == "0.0000254" and _area_switch(0.8660254037844386) == "0.8660254038"
+    arena = arenas.Arena.disk((0.0, 0.0), 0.1, n_boundary=64)
+    h = 0.004
+    triangles = mesh_free_region(arena, h).t.T
+    assert len(triangles) > 0.5 * arena.area / (_AREA_PER_H2 * h * h)
