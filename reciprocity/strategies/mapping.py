@@ -1,7 +1,7 @@
 """What a strategy does with a map it has to discover: the component it owns for
 ``map: unknown``.
 
-:class:`MapKeeper` holds the occupancy grid (:class:`~reciprocity.beliefs.occupancy.OccupancyGrid`)
+:class:`MapKeeper` holds the occupancy grid (:class:`~reciprocity.spaces.occupancy.OccupancyGrid`)
 built from the platform's range scans and answers the strategy's four questions:
 
 - *on which domain is the field computed?* :attr:`MapKeeper.arena`, the outer boundary
@@ -34,11 +34,10 @@ import numpy as np
 
 from arenas import Arena
 
-from ..beliefs.occupancy import OccupancyGrid
 from ..errors import SearchError
 from ..imaging import ImagingMap
 from ..observations import Observation, scans_of
-from ..spaces.occupancy import MIN_CHANGE_CM2
+from ..spaces.occupancy import MIN_CHANGE_CM2, OccupancyGrid
 
 __all__ = ["MapKeeper", "ShortfallImaging", "UNSEEN_MODEL_ERROR", "MAPPED_MODEL_ERROR", "UNSEEN_SHORTFALL",
            "FRONTIER_SHARE", "SURVEY_SHARE", "FRONTIER_DISCOUNT", "REOPEN_CM2"]
