@@ -126,12 +126,10 @@ class OverheadCamera:
     The detector uses contour corner refinement (line fits to the marker's edges),
     accepts only candidates with about the tag's perimeter and, when the marker's
     modules are at least 3 px wide, a single adaptive-threshold window about the
-    tag's size. At the defaults (modules of 4 px) the pose error is
-    about 0.005 cm (median) in position and 0.2 degrees in heading, with every tag
-    found: the tag is sharp and the camera has no lens distortion or motion blur.
-    Below 3 px per module detection becomes unreliable (measured with the default
-    tag: 99 % of poses found at ``px_per_cm = 5``, 91 % at 4); keep
-    ``tag_size * px_per_cm >= 3 * (marker bits + 2)``.
+    tag's size. The tag is sharp and the camera has no lens distortion or motion blur.
+    Below 3 px per module detection becomes unreliable; keep
+    ``tag_size * px_per_cm >= 3 * (marker bits + 2)``. The pose error and the share of
+    poses found, measured: ``docs/testbed.md`` (*The camera, the car and the sensor*).
 
     Examples
     --------
@@ -227,7 +225,7 @@ class OverheadCamera:
     def _car_sprite(self) -> tuple[np.ndarray, np.ndarray]:
         """The car seen from above with its front up: the grey level premultiplied by
         coverage, and the coverage, each (rows, cols) float32 (OpenCV warps one
-        channel several times faster than two).
+        channel much faster than two).
 
         Sprite pixel ``(col, row)`` (centre) is the car-frame point
         ``w = (cols / 2 - col - 0.5) / s`` to the left, ``u = (rows / 2 - row - 0.5) / s``
@@ -428,8 +426,8 @@ class OverheadCamera:
             Predicted position (cm). The tag is searched for in a small square around
             it (side: the tag's diagonal plus 2 x :data:`FOCUS_MARGIN` cm), then in the
             tracking window of side :attr:`window` cm, then in the full frame; each
-            retry renders a new noisy frame. Without `near`, the full frame (slow:
-            15-25 ms at the default resolution, against ~0.4 ms when tracking).
+            retry renders a new noisy frame. Without `near`, the full frame (slow: its
+            time against tracking is in ``docs/testbed.md``).
         time : float, optional
             Time stamp copied into the observation, s.
 

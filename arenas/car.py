@@ -73,9 +73,9 @@ class CarSpec:
 
     Notes
     -----
-    The noise defaults make a 50 cm open-loop straight drift laterally by 1.9 cm RMS
-    (median 1.3 cm, 90th percentile 3.2 cm over 500 seeds) and turn the heading by
-    4 degrees RMS: a closed loop has something to correct, as on the real testbed.
+    The noise defaults make an open-loop straight drift laterally and turn its heading
+    (by how much: ``docs/testbed.md``): a closed loop has something to correct, as on
+    the real testbed.
     """
 
     length: float = 7.0

@@ -359,12 +359,8 @@ class Calibration:
         and it is the same for every reading of a run: a bias, which independent-noise
         imaging can only absorb as extra spread); and the floor's 8-bit grey quantisation,
         ``1/sqrt(12)`` grey. With the defaults (30 Hz, 1 s dwell, 30 samples per patch,
-        12 counts) this is about 2.1 signal units on ``paper``. The first part alone
-        (1.5 units) matches the spread of car readings about the exact field at reachable
-        sources (six pairs of ``benchmarks/search_car.yaml``, 30 readings, rms 1.5), but
-        on a source the car cannot reach, whose readings are all near zero, a run whose
-        calibration read 0.7 grey high gave readings of 0 to 5 units where the field is 0,
-        and imaging that ignored that bias converged 89 cm off.
+        12 counts) this is about 2.1 signal units on ``paper``. Why the first part alone
+        is not enough (car readings measured against it): ``docs/testbed.md``.
 
         Parameters
         ----------

@@ -22,7 +22,7 @@ with Wilson 95 % intervals (``scipy.stats.binomtest``); mean steps over the succ
 ``--experiment controls`` scores Algorithm 2's five controls every step;
 ``--experiment sensor`` changes the reach of the link sensor (secondary links uninformative,
 or seen perfectly).
-Results: the doc of :mod:`reciprocity.campaign.tables.ristic2014`.
+Results: ``docs/papers/ristic2014.md``.
 """
 
 from __future__ import annotations

@@ -20,8 +20,8 @@ The median critical α over the steps of the runs is the α at which the tempera
 decides about half the steps: the balance the paper describes (exploration first, then
 exploitation as tr(Σ) shrinks) needs α of that order, at every area. ``--alpha`` and
 ``--area-exponent`` measure another temperature the same way (the critical α is then
-still the least α, at this run's moves, that changes the α = 0 choice). Results: the doc of
-:mod:`reciprocity.campaign.tables.song2019`.
+still the least α, at this run's moves, that changes the α = 0 choice). Results:
+``docs/papers/song2019.md``.
 """
 
 from __future__ import annotations

@@ -3,9 +3,7 @@
 The measured numbers live in ``benchmarks/*.md`` beside the scripts that produce them;
 :func:`on_files` publishes those reports (and the images they show) under
 ``benchmarks/`` of the site, so the pages link to them instead of copying numbers. The
-papers' tables, ours beside them and the verdicts, live in the docstrings of
-``reciprocity/campaign/tables/*.py``; :func:`on_page_markdown` puts each where a page says
-``<!-- docstring: PATH -->`` (reStructuredText tables as text blocks).
+papers' tables, ours beside them and the verdicts, are pages of ``docs/papers/``.
 
 The docstrings are written for Sphinx as much as for mkdocstrings (``:class:`Arena```,
 ``:func:`~reciprocity.env.rollout```, ``:mod:`intents <reciprocity.intents>```); Markdown
@@ -17,7 +15,6 @@ object whose dotted name ends with it, is documented on the same page.
 
 from __future__ import annotations
 
-import ast
 import html
 import re
 from pathlib import Path
@@ -25,8 +22,6 @@ from pathlib import Path
 from mkdocs.structure.files import File, InclusionLevel
 
 ROOT = Path(__file__).resolve().parents[1]
-_DOCSTRING = re.compile(r"^<!-- docstring: ([\w/.-]+\.py) -->$", re.M)
-_RST_BORDER = re.compile(r"^=+(?: +=+)+ *$")
 _IMAGE = re.compile(r"\]\(([^)\s]+\.(?:png|svg|jpg))\)")
 
 _ROLE = re.compile(r":(?:py:)?(?:class|func|meth|mod|data|attr|exc|obj|const):<code>(.*?)</code>")
@@ -49,31 +44,6 @@ def on_files(files, config):
                 if files.get_file_from_path(uri) is None:
                     files.append(File.generated(config, uri, abs_src_path=str(src)))
     return files
-
-
-def rst_to_markdown(text: str) -> str:
-    """A docstring's reStructuredText as Markdown: simple tables (three ``===`` borders)
-    become ``text`` blocks, ````literal```` becomes `literal`."""
-    out, table, borders = [], [], 0
-    for line in text.splitlines():
-        if _RST_BORDER.match(line):
-            borders += 1
-        if borders:
-            table.append(line)
-            if borders == 3:
-                out += ["```text", *table, "```"]
-                table, borders = [], 0
-            continue
-        out.append(re.sub(r"``([^`]+)``", r"`\1`", line))
-    return "\n".join(out + table)
-
-
-def on_page_markdown(markdown: str, page, config, files) -> str:
-    """Replace each ``<!-- docstring: PATH -->`` line by that module's docstring."""
-    def docstring(m: re.Match) -> str:
-        source = (ROOT / m.group(1)).read_text()
-        return rst_to_markdown(ast.get_docstring(ast.parse(source)) or "")
-    return _DOCSTRING.sub(docstring, markdown)
 
 
 def _title_and_target(text: str) -> tuple[str, str]:

@@ -21,6 +21,7 @@ MOVED = {
     "reciprocity.lattice_platform": ("reciprocity.platforms.lattice", "LatticePlatform"),
     "reciprocity.figures": ("reciprocity.viz.figures", "imaging_steps_figure"),
     "reciprocity.video": ("reciprocity.viz.video", "write_video"),
+    "reciprocity.beliefs.occupancy": ("reciprocity.spaces.occupancy", "OccupancyGrid"),
 }
 
 

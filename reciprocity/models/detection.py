@@ -15,19 +15,13 @@ spread of the measured wind direction ``σ_θ`` (rad), whose peak falls as the p
 spreads, and a small floor ``ε`` for detections the envelope does not explain (the
 tails of the meander, model error). This is a model, not the world's filaments.
 
-Calibration (the measurement behind the defaults): in the ``farrell`` scenario's plume
-(threshold 0.3, 10 Hz), the fraction of 1-s periods with at least one detection at fixed
-points 3 m upwind to 50 m downwind and 0–20 m crosswind of the source (2 plumes × 300 s,
-126 points, both sides pooled) fits ``σ0 = 1.1 m``, ``σ = 0.47 m/m × d``, ``A = 0.97``,
-``b = 0.41``, ``p_max = 0.91``, ``ℓ = 0.47 m`` (RMS residual 0.056); the wind direction
-measured at one point over the same time had a standard deviation of 0.67–0.71 rad (4 and
-2 plumes), hence ``γ = 0.47 / 0.69 ≈ 0.7``. The same measurement gives the fraction of
-single 10-Hz readings that detect as 0.85–0.94 (median 0.91) of the per-period fraction
-(points where the latter exceeds 0.05): successive readings within
-one second are almost fully correlated, which is why the model (and
-:mod:`reciprocity.strategies.detection_infotaxis`) counts one Bernoulli outcome per
-period ("any detection in it"), not ten. ``benchmarks/filament_detection_calibration.py``
-repeats the measurement.
+Calibration: the defaults are fitted to the ``farrell`` scenario's plume, from the
+fraction of 1-s periods with at least one detection at fixed points around the source and
+the spread of the wind direction there; ``benchmarks/filament_detection_calibration.py``
+repeats the measurement and ``benchmarks/filament_detection_calibration.md`` records it.
+Successive readings within one second are almost fully correlated, which is why the model
+(and :mod:`reciprocity.strategies.detection_infotaxis`) counts one Bernoulli outcome per
+period ("any detection in it"), not ten.
 """
 
 from __future__ import annotations

@@ -12,7 +12,8 @@ model; the ``filament`` world gives 0/1 detections at 10 Hz and the local wind. 
 * it is updated once per decision `period` (1 s) with one Bernoulli outcome, "at least
   one detection in the period", read at the period's mean position. Why not every
   10-Hz reading: at fixed points of the calibration plume the per-reading detection
-  frequency is 0.85–0.94 of the per-period frequency (models/detection.py), so the ten
+  frequency is nearly the per-period frequency
+  (``benchmarks/filament_detection_calibration.md``), so the ten
   readings of a second carry about one reading's worth of independent information;
   counting them as ten would make the posterior ten times over-confident. Periods are
   still correlated through the meander (its 20 s time constant); `temper` (≤ 1) raises
@@ -95,7 +96,7 @@ class DetectionInfotaxis(_PlaneWalk):
     temper : float
         Exponent (0, 1] on each period's likelihood (correlated periods).
     wind_window : float
-        Time constant of the measured wind's running mean, s (the default 20 s against
+        Time constant of the measured wind's running mean, s (the default compared with
         60 s: ``benchmarks/filament_search.md``).
     memory : float or None
         Time constant of the relaxation of the log-posterior toward uniform, s.

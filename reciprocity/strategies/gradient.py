@@ -36,9 +36,9 @@ def three_point_gradient(points: np.ndarray, readings: np.ndarray) -> np.ndarray
 
 
 #: The stall rule stops a search with `i_max` only once a sample reached this fraction of
-#: it. On the car (``benchmarks/search_car_sigma.yaml``, 24 reachable pairs) the rule
-#: without this condition stopped 11 runs 5.8-15.6 cm off, stuck against walls; a reading
-#: of 0.6 u_max lies within about 5 cm of the source on ``paper``.
+#: it: without this condition the rule stopped car runs off the source, stuck against walls
+#: (``docs/testbed.md``, *Two defaults of the car's searches*); a reading of 0.6 u_max lies
+#: within about 5 cm of the source on ``paper``.
 STALL_FRACTION = 0.6
 
 

@@ -18,11 +18,9 @@ moths' surge/cast for comparison.
     ``target="verify"`` bisects until the map's mass near its peak reaches
     ``approach × stop_mass``, then goes straight to the peak cell, and stops only with
     the vehicle within `radius` of the estimate (it has gone to check the map's answer;
-    ``bisect`` stopped wherever it was). Measured on the 50 starts of ``reproduce
-    farrell-hmm``: 13 successes against bisect's 15, 9 wrong stops against 7 — not
-    better; most failures of both never stop (28 of 50, mostly far from the source).
-    (Also tried and dropped: the moth's surge/cast motion with this map's estimate and
-    stop, 6 successes of 50 with ``stop_mass=0.2``.)
+    ``bisect`` stopped wherever it was). How ``verify`` and ``bisect`` compare on the
+    starts of ``reproduce farrell-hmm``, and a variant tried and dropped:
+    ``benchmarks/hmm_search.md``.
 ``surge-cast``
     The upwind surge / crosswind cast of moths reviewed by the paper: on a detection,
     surge against the locally measured wind for `surge_time`; when the odour is lost,
@@ -109,8 +107,8 @@ class HMMSearch(_PlaneWalk):
         Divide each candidate's value by one plus the periods already spent in its
         cell. The bisection value, flat where the map is flat, can send the vehicle back
         and forth between two neighbouring cells for a minute (seen on one start); the
-        discount stops that, but on 12 starts it gave 3 successes against 5 with
-        ``target="verify"``, so it is off by default.
+        discount stops that, but it lost successes with ``target="verify"``
+        (``benchmarks/hmm_search.md``), so it is off by default.
     min_time : float
         Never stop before this many seconds of map: until the flow history spans the
         region, β̄ is dominated by its short lags and piles each detection's credit on

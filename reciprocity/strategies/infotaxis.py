@@ -233,8 +233,8 @@ class FreeEnergyInfotaxis(PlumeSearch):
         ``alpha · (L / 100)^area_exponent`` with ``L`` the square root of the area (the
         task's bounds, length unit). 0 (default): the paper's one ``alpha`` at every size.
         How much the printed ``alpha`` lets the temperature decide, and how the ``alpha``
-        that balances the two terms grows with the area, is in the doc of
-        :mod:`reciprocity.campaign.tables.song2019`.
+        that balances the two terms grows with the area, is in
+        ``docs/papers/song2019.md``.
 
     Attributes
     ----------

@@ -21,8 +21,8 @@ the searcher at ``r``, the found case scoring 0:
     an information term). With ``q = 3`` the first term is the cube root of free
     energy's potential (eq. (4) of papers/002, γ = 3), so it is in length units and
     comparable with the spread; papers/002 instead adds ``α tr(Σ)^β`` times the
-    entropy, which with its printed α, β is 10²–10⁴ times smaller than the potential
-    (see :mod:`reciprocity.campaign.tables.song2019`). Unlike the particle entropy, the
+    entropy, which with its printed α, β is orders of magnitude smaller than the potential
+    (``docs/papers/song2019.md``). Unlike the particle entropy, the
     spread does not reset when the cloud is resampled. Defaults ``q = 3``, ``κ = 2``:
     the best of the settings measured on ``song-100``.
 

@@ -1,7 +1,7 @@
 """What a strategy does with a map it has to discover: the component it owns for
 ``map: unknown``.
 
-:class:`MapKeeper` holds the occupancy grid (:class:`~reciprocity.beliefs.occupancy.OccupancyGrid`)
+:class:`MapKeeper` holds the occupancy grid (:class:`~reciprocity.spaces.occupancy.OccupancyGrid`)
 built from the platform's range scans and answers the strategy's four questions:
 
 - *on which domain is the field computed?* :attr:`MapKeeper.arena`, the outer boundary
@@ -34,11 +34,10 @@ import numpy as np
 
 from arenas import Arena
 
-from ..beliefs.occupancy import OccupancyGrid
 from ..errors import SearchError
 from ..imaging import ImagingMap
 from ..observations import Observation, scans_of
-from ..spaces.occupancy import MIN_CHANGE_CM2
+from ..spaces.occupancy import MIN_CHANGE_CM2, OccupancyGrid
 
 __all__ = ["MapKeeper", "ShortfallImaging", "UNSEEN_MODEL_ERROR", "MAPPED_MODEL_ERROR", "UNSEEN_SHORTFALL",
            "FRONTIER_SHARE", "SURVEY_SHARE", "FRONTIER_DISCOUNT", "REOPEN_CM2"]
@@ -55,11 +54,9 @@ MAPPED_MODEL_ERROR = 0.05
 UNSEEN_SHORTFALL = 0.0
 #: Explore (go to the frontier) when at least this share of the belief lies in unseen space.
 FRONTIER_SHARE = 0.5
-#: The same when the frontier is surveyed (scanned without a reading). Measured on generated
-#: arenas, map unknown: 0.25 rescued 4 of the 9 draws of 300 that spent their 30 readings in
-#: seen space (spirals and a ring; 6-13 readings instead), but on 30 draws that succeeded
-#: either way it cost 0.9 readings (mean 12.3 against 11.4) and 300 cm of path (median 1136
-#: against 826 cm). Kept at FRONTIER_SHARE.
+#: The same when the frontier is surveyed (scanned without a reading). Kept at
+#: FRONTIER_SHARE: a lower share rescued some draws that spent their readings in seen space
+#: but cost readings and path on the others (``benchmarks/likelihood_terms.md``).
 SURVEY_SHARE = FRONTIER_SHARE
 #: Path length (cm) over which a frontier point's score falls by a factor e.
 FRONTIER_DISCOUNT = 100.0

@@ -95,7 +95,7 @@ class RBPFStrategy(Strategy):
         Algorithm 2, line 2, every step (the paper's text).
     map : {"unknown", "known"}
         ``"unknown"`` (the paper): the map is estimated. ``"known"`` (an oracle for the
-        ladder of :mod:`reciprocity.campaign.tables.ristic2014`): the scenario's map
+        ladder of ``docs/papers/ristic2014.md``): the scenario's map
         (``map: known``), held with certainty.
     field : {"conformal", "lattice"}
         The count model: eq. (25) (the paper), or the lattice's own field on the known map

@@ -102,10 +102,8 @@ PRESETS = {"paper": dict(rule="nearest", combine="mean", sigma="noise", eps=0.7,
 SIGMA_RULES = ("auto", "noise", "calibrated")
 #: ``sigma="calibrated"``: relative error of the model's predicted reading (the FEM field
 #: at h = 1 cm against the truth mesh and the painted floor near the source), added in
-#: quadrature to the calibrated noise. Car readings of 90-250 units sat 1-2 % from the
-#: exact field at the true source (six reachable pairs of ``benchmarks/search_car.yaml``);
-#: over its 30 pairs 0.02 still converged 2 of 24 reachable runs 5.5 and 7.5 cm off, 0.05
-#: none (max 3.1 cm).
+#: quadrature to the calibrated noise; why 0.05 and not less, measured on the car:
+#: ``docs/testbed.md`` (*Two defaults of the car's searches*).
 CALIBRATED_MODEL_ERROR = 0.05
 #: Stop with ``StopReason.UNREACHABLE`` once the belief puts less than this mass within
 #: reach (:meth:`ReciprocityStrategy.within_reach`): the source is out of reach with 95 %
@@ -218,13 +216,12 @@ class ReciprocityStrategy(Strategy):
     rule. The paper gives no values for ``eps``, ``A_eps`` and ``d``; these are ours:
     ``d = 12.7 cm``, one spacing of the paper's bank of value functions (the car measures
     at the bank's lattice point nearest to the requested one, and with a smaller ``d``
-    the next point snaps back to the lattice point just read: with 6 cm the car read 30
-    times at its start in 30 of 30 runs); ``eps = 0.7`` with ``A_eps = 40 cm^2`` (a
-    disk of radius 3.6 cm, inside the 5 cm success radius): re-evaluated offline on 30
-    recorded runs of the car as the paper ran it, eq. (8) with ``eps = 0.1`` never
-    stops within 30 readings, and ``eps = 0.7`` is the pair that stops (29 of 30 runs)
-    nearest the paper's 7 readings (8.7, 95 % interval [7.0, 10.4]; 18 of 30 within
-    5 cm, median error 3.4 cm), ``benchmarks/landa_paper_preset.md``. Choices the
+    the next point snaps back to the lattice point just read and the car never leaves its
+    start); ``eps = 0.7`` with ``A_eps = 40 cm^2`` (a disk of radius 3.6 cm, inside the
+    5 cm success radius): re-evaluated offline on recorded runs of the car as the paper
+    ran it, eq. (8) with ``eps = 0.1`` never stops, and ``eps = 0.7`` is the pair that
+    stops nearest the paper's 7 readings (measured in ``benchmarks/landa_paper_preset.md``
+    and ``docs/papers/landa2020.md``). Choices the
     paper leaves open: the first point is the start; "nearest" and the tie-break are as above; the estimate is the maximiser of
     ``P_M`` refined below the mesh size (:meth:`ImagingMap.estimate`); the loop
     condition of Algorithm 1 (``while 0 <= A < A_eps``) is read as "until ``A <
@@ -341,9 +338,8 @@ class ReciprocityStrategy(Strategy):
         observer can reach, PATH_SLACK times it along the free region), or within this
         distance (cm, along the free region) of the points it can reach. A wider survey
         finds sources the platform cannot reach but can sense, at the cost of readings
-        that cannot exclude what hides behind walls it cannot pass: on the car
-        (``benchmarks/several_sources.md``) 30 cm left two of five searches at their step
-        cap with both sources found.
+        that cannot exclude what hides behind walls it cannot pass (measured on the car:
+        ``benchmarks/several_sources.md``).
 
     Examples
     --------

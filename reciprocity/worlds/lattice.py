@@ -149,7 +149,7 @@ class LatticeWorld(World):
     localisation_known : bool
         Every reading carries the node it was taken at (``data["fix"]``, the scenario's
         ``localisation: known``): an oracle position sensor for the ladder of
-        :mod:`reciprocity.campaign.tables.ristic2014`. False (the paper): the searcher
+        ``docs/papers/ristic2014.md``. False (the paper): the searcher
         knows only its start and the controls it commanded.
     sources : array_like, shape (K, 2), optional
         Several source nodes (lattice units, distinct transient nodes), replacing

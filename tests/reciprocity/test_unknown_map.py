@@ -7,13 +7,13 @@ from shapely.geometry import Point, Polygon
 from shapely.ops import unary_union
 
 import arenas
-from reciprocity.beliefs.occupancy import OccupancyGrid
 from reciprocity.cli import main
 from reciprocity.env import SearchEnv, rollout
 from reciprocity.errors import SearchError
 from reciprocity.intents import Measure, Survey
 from reciprocity.observations import readings_of
 from reciprocity.platforms.lidar import LIDAR_DEFAULTS, Lidar, ray_ranges, wall_segments
+from reciprocity.spaces.occupancy import OccupancyGrid
 from reciprocity.strategies import STRATEGIES
 from reciprocity.strategies.agent import StrategyAgent
 from reciprocity.strategies.mapping import MapKeeper

@@ -1,25 +1,12 @@
 """Farrell, Pang & Li (2003): hidden-Markov plume mapping, its Figs. 5–8 and a search
 comparison the paper does not have.
 
-Set-up (papers/003; scenario ``farrell``): a filament plume over 100 m × 100 m, source
-at (20, 0), a binary detector at 10 Hz, the vehicle at 1 m/s, 300 s at most. ``hmm``
-(the source likelihood map with a one-step planner), ``surge-cast`` (the moths' upwind
-surge / crosswind cast) and ``detection-infotaxis`` (infotaxis on per-second binary
-detections with a time-averaged meandering-plume model along the measured wind) start
-from the same random place on each seed index (``hmm`` twice: its default bisection
-planner and ``target="verify"``, which goes to check the map's peak before it stops):
-the scenario's start is dropped (``random_start``), so the filament world's default
-start, uniform over the region at least 10 m from the source, is drawn from the episode
-seed. At least 50 starts.
-The plume worlds' ``infotaxis`` is not among them (it needs the K0 hit-rate model);
-``detection-infotaxis`` is its counterpart for binary filament detections.
+``farrell-hmm`` runs ``hmm`` (two planners), ``surge-cast`` and ``detection-infotaxis``
+(:data:`FARRELL_VARIANTS`) on the scenario ``farrell`` from the same random start per
+seed index; :func:`figures` (the table's ``after``) writes the paper's Figs. 5–8 and one
+track per strategy. The paper reports maps only, no search statistics.
 
-The paper reports maps only (and that its one-step planner "typically" finds the source
-within 300 s): the table prints our success rate, search time (s, all runs: a run that
-does not stop counts its 300 s), the vehicle's distance to the source when it stopped
-(m, from its true position) and the estimate's error (m), with 95 % intervals and "–"
-for the paper. :func:`figures` (the table's ``after``) writes the paper's Figs. 5–8 and
-the tracks of both strategies on the first seed index under ``DIR/figures``.
+The set-up and what the table prints: ``docs/papers/farrell2003.md``.
 """
 
 from __future__ import annotations

@@ -1,11 +1,7 @@
 """otto (Loisy & Eloy 2022), 2-D grid, λ/Δx = 1, R·Δt = 2: infotaxis and space-aware infotaxis.
 
-Set-up (scenario ``otto-2d``, otto's protocol): a 19 × 19 grid, the searcher starts at
-the centre after a forced first hit, the source is drawn from the posterior after that
-hit, Poisson hits of mean μ(d) = I/ln(2L)·K0(d/L), the episode ends on the source cell
-(or at 1000 steps). otto's numbers were measured with otto's own evaluation script; its
-mean number of steps is conditioned on success, and so is ours. At least 1000 episodes
-per policy.
+``otto-2d`` runs both on the scenario ``otto-2d`` (otto's protocol) against otto's mean
+number of steps (:data:`OTTO_2D`); the set-up: ``docs/papers/otto.md``.
 """
 
 from __future__ import annotations
