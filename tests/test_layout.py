@@ -1,6 +1,8 @@
 """The package layout: the new homes of moved modules, and nothing left at the old paths."""
 
+import ast
 import importlib
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -69,3 +71,36 @@ def test_no_module_of_the_package_imports_an_old_path():
     out = subprocess.run([sys.executable, "-W", "error::DeprecationWarning", "-c", code], cwd=root,
                          capture_output=True, text=True, timeout=HANG_S)
     assert out.returncode == 0, out.stderr[-2000:]
+
+
+#: What a measured result looks like in prose: a date, a rate with its interval, "k of n",
+#: "n× faster", "median 3", "0.4 s per ...", "20 runs", "seeds 0-19".
+MEASURED = re.compile(
+    r"20\d\d-\d\d-\d\d"
+    r"|\d(\.\d+)? ?%? \[-?\d+(\.\d+)?, -?\d+(\.\d+)?\]"
+    r"|\b\d+ of \d+\b"
+    r"|\d(\.\d+)? ?[×x] (faster|slower|shorter|longer)|times (faster|slower)"
+    r"|\b(median|rms|percentile|mean)( error)? \d"
+    r"|\d(\.\d+)? ?(ms|s) (per|at|against|to build)\b|~\d(\.\d+)? ?ms"
+    r"|\bruns per\b|\b\d+ runs\b|seeds \d+ ?[-–]\d")
+
+
+def _docstrings(tree):
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
+            doc = ast.get_docstring(node, clean=False)
+            if doc:
+                yield node, doc
+
+
+def test_package_docstrings_hold_no_measured_results():
+    """Measurements live in benchmarks/*.md and docs/, where a re-run rewrites them; a
+    docstring says what the code does (issue 37)."""
+    root = Path(reciprocity.__file__).resolve().parents[1]
+    found = []
+    for package in ("reciprocity", "arenas", "hjplanner"):
+        for path in sorted((root / package).rglob("*.py")):
+            for node, doc in _docstrings(ast.parse(path.read_text())):
+                found += [f"{path.relative_to(root)} ({getattr(node, 'name', 'module')}): {line.strip()}"
+                          for line in doc.splitlines() if MEASURED.search(line)]
+    assert found == []

@@ -286,7 +286,7 @@ class GreenSolver:
         (at least PROBE_CACHE_MIN points: rasters such as a painted floor) are remembered
         by content, PROBE_CACHE_SIZE of them per solver, so a second field on the same
         raster (the floor of the next episode's source) costs a sparse product instead of
-        locating every pixel again (1.0 s per 200 000 points).
+        locating every pixel again.
         """
         pts = as_points(points)
         if len(pts) < PROBE_CACHE_MIN:

@@ -261,7 +261,7 @@ def cached_mesh(arena: Arena, h: float, *, grading: float | None = 0.5) -> skfem
     """:func:`mesh_free_region`, kept on disk by the arena's geometry, `h` and `grading`.
 
     Triangle is deterministic, so a cached mesh is the mesh that would be made; it saves
-    0.4-1.5 s per arena and mesh size at start-up. A cache that cannot be read or written
+    the meshing at start-up. A cache that cannot be read or written
     is passed over silently (the mesh is then made as usual).
     """
     import skfem
