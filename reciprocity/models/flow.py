@@ -11,8 +11,8 @@ plume papers' ``R / ln(λ/a)``), so over a dwell ``Δt`` the count is Poisson wi
 ``k q c(z; x_s) Δt``.
 
 The truth (:mod:`reciprocity.worlds.flow`) and a strategy's model each build their own
-solver with :func:`flow_solver`, each on its own mesh and with its own parameters (the
-truth's may differ on purpose: mismatch).
+solver with :func:`build_flow_solver`, each on its own mesh, with its own parameters (the
+truth's may differ on purpose: mismatch) and in its own cache.
 """
 
 from __future__ import annotations
@@ -26,10 +26,9 @@ from arenas.memo import sized_cache
 
 from ..fem import AdvectionSolver, WindField
 
-__all__ = ["FlowParams", "flow_solver", "flow_wind", "segments_tuple"]
+__all__ = ["FlowParams", "build_flow_solver", "flow_solver", "segments_tuple"]
 
-#: Bytes of wind fields and advection solvers kept per process (each cache): a factorized
-#: P1 advection operator of the paper arena at h = 1 cm is about 60 MB.
+#: Bytes of a strategy's advection solvers (with their winds) kept per process.
 FLOW_CACHE_BYTES = 300 * 2**20
 
 
@@ -81,23 +80,23 @@ class FlowParams:
         return self.speed * float(length) / self.D
 
 
-@sized_cache(FLOW_CACHE_BYTES, maxsize=8)
-def flow_wind(arena: Arena, inflow: tuple, outflow: tuple, speed: float, h: float) -> WindField:
-    """The potential-flow wind of `arena` (pass ``arena.without_scenario()``) at mesh size
-    `h` cm, kept per process."""
-    return WindField.potential(arena, list(inflow), list(outflow), speed=speed, h=h)
-
-
-@sized_cache(FLOW_CACHE_BYTES, maxsize=8)
-def flow_solver(arena: Arena, params: FlowParams, h: float) -> AdvectionSolver:
-    """The factorized advection solver of `params` on `arena` (its geometry:
-    ``arena.without_scenario()``) at mesh size `h` cm, on the wind's own mesh; kept per
-    process, so that episodes on one arena factorize it once.
+def build_flow_solver(arena: Arena, params: FlowParams, h: float) -> AdvectionSolver:
+    """The factorized advection solver of `params` on `arena` (its geometry) at mesh size
+    `h` cm, on the mesh of its potential-flow wind. Not cached: the truth keeps its own
+    (:func:`reciprocity.worlds.flow.truth_solver`), strategies theirs (:func:`flow_solver`),
+    so that neither evicts the other.
 
     Raises
     ------
     ReciprocityError
         A segment runs along an obstacle attached to the boundary (seen on the mesh).
     """
-    wind = flow_wind(arena, params.inflow, params.outflow, params.speed, float(h))
+    wind = WindField.potential(arena, list(params.inflow), list(params.outflow), speed=params.speed, h=float(h))
     return AdvectionSolver(arena, wind, D=params.D, tau=params.tau, h=float(h), walls=params.walls).factorize()
+
+
+@sized_cache(FLOW_CACHE_BYTES, maxsize=8)
+def flow_solver(arena: Arena, params: FlowParams, h: float) -> AdvectionSolver:
+    """:func:`build_flow_solver` for a strategy's model, kept per process (pass
+    ``arena.without_scenario()``): episodes on one arena factorize it once."""
+    return build_flow_solver(arena, params, h)

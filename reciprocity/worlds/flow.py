@@ -19,16 +19,26 @@ from dataclasses import dataclass, fields, replace
 import numpy as np
 
 from arenas import Arena
+from arenas.memo import sized_cache
 
 from ..errors import SearchError
 from ..fem.green import Field
-from ..models.flow import FlowParams, flow_solver
+from ..models.flow import FlowParams, build_flow_solver
 from .base import Reading, World
 
-__all__ = ["FlowWorld", "FlowMismatch", "TRUTH_H"]
+__all__ = ["FlowWorld", "FlowMismatch", "TRUTH_H", "truth_solver"]
 
 #: Mesh size of the truth (cm): half the mesh size of the command line's default model (1 cm).
 TRUTH_H = 0.5
+#: Bytes of truth solvers kept per process (the paper arena at 0.5 cm: 93 000 unknowns).
+TRUTH_CACHE_BYTES = 400 * 2**20
+
+
+@sized_cache(TRUTH_CACHE_BYTES, maxsize=4)
+def truth_solver(arena: Arena, params: FlowParams, h: float):
+    """The truth's own advection solver of `arena` (its geometry) with the true `params`
+    at mesh size `h` cm, kept for the truth alone (no strategy ever holds it)."""
+    return build_flow_solver(arena, params, h)
 
 
 @dataclass(frozen=True)
@@ -109,7 +119,7 @@ class FlowWorld(World):
     def field(self) -> Field:
         """The true mean concentration ``q c(·; x_s)`` (particles/cm², a field at any points, cm)."""
         if self._field is None:
-            solver = flow_solver(self.arena.without_scenario(), self.truth, self.h)
+            solver = truth_solver(self.arena.without_scenario(), self.truth, self.h)
             c = solver.forward(self.source)
             self._field = Field(c.solver, self.truth.strength * c.dofs, "mean concentration")
         return self._field
