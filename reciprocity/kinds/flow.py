@@ -37,7 +37,7 @@ from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import Bound, point
 from ..worlds.flow import TRUTH_H, FlowMismatch, FlowWorld
 
-__all__ = ["FLOW", "FLOW_KEYS"]
+__all__ = ["FLOW", "FLOW_KEYS", "params_of"]
 
 #: Parameters of a ``flow`` scenario.
 FLOW_KEYS = ("arena", "source", "inflow", "outflow", "speed", "D", "tau", "walls", "strength", "detector",
@@ -71,7 +71,7 @@ def _arena(params: dict) -> Arena:
         source = params.get("source")
         if source is not None:
             source = point(source, "source")
-        arena = arena.with_scenario(source=source, strength=params.get("strength"))
+        arena = arena.with_scenario(source=source)       # the release rate is the world's, not the arena's
     except ArenaError as exc:
         raise SearchError(str(exc)) from None
     if arena.source is None:

@@ -55,7 +55,7 @@ def _file(tmp_path, **over):
     ({"speed": 0}, r"speed must be a number in \(0, 1000\] cm/s"),
     ({"D": -1}, r"D must be a number in \[0.001, 10000\] cm²/s"),
     ({"tau": "long"}, "tau must be a number"),
-    ({"strength": 0}, "strength must be a number in"),
+    ({"strength": 0}, r"strength must be a number in \(0, 1e\+09\] particles/s"),
     ({"detector": [1]}, "detector must be a number"),
     ({"walls": "leaky"}, "walls must be one of impermeable, absorbing"),
     ({"truth_h": 0.01}, r"truth_h must be a number in \[0.1, 10\] cm"),
@@ -63,7 +63,7 @@ def _file(tmp_path, **over):
     ({"mismatch": {"wind_factor": 0}}, "mismatch wind_factor must be a number"),
     ({"mismatch": {"inflow": [[[30, 0], [31, 5]]]}}, "mismatch inflow segment"),
     ({"mismatch": [1.2]}, "flow mismatch must be a mapping"),
-    ({"source": [31, 20]}, "source"),
+    ({"source": [31, 20]}, r"source \(31, 20\) cm is inside an obstacle"),
     ({"start": [31, 20]}, "outside the free region"),
 ])
 def test_bad_flow_keys_are_refused_with_one_line(over, match):
