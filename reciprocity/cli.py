@@ -100,6 +100,10 @@ _STOPPED = {"step cap": "step cap reached", "no target": "no admissible place le
 _NOT_LOCALISED = ", but the searcher's own position was not localised"
 
 
+#: World kinds whose lengths are cm (an arena's).
+ARENA_WORLDS = ("poisson", "flow")
+
+
 def _verdict(s: dict, radius: float) -> str:
     """The last line of a run: whether it succeeded and why it stopped, in words.
 
@@ -123,7 +127,7 @@ def _verdict(s: dict, radius: float) -> str:
     if s["stop"] == "found":
         line = f"success: {yes} — {detail or 'an observer reached the source'}"
         return line + _NOT_LOCALISED if s.get("self_localised") is False else line
-    unit = " cm" if s["world"] == "poisson" else ""
+    unit = " cm" if s["world"] in ARENA_WORLDS else ""
     words = f"converged ({detail})" if detail else "converged"
     if s.get("errors") is not None:                                 # several sources
         errors = [e for e in s["errors"] if e is not None]
@@ -138,9 +142,9 @@ def _verdict(s: dict, radius: float) -> str:
 
 
 def _header(world: str = "poisson") -> str:
-    """Column names; lengths are cm in arena (poisson) worlds, the world's unit elsewhere,
+    """Column names; lengths are cm in arena (poisson, flow) worlds, the world's unit elsewhere,
     and time is simulated seconds (steps in step-counted worlds)."""
-    unit = "cm" if world == "poisson" else "  "
+    unit = "cm" if world in ARENA_WORLDS else "  "
     return (f"{'strategy':<12} {'meas.':>5} {'samples':>7} {'path ' + unit:>9} {'time':>7} {'wall s':>7} "
             f"{'error ' + unit:>9}  {'estimate':<18} {'contacts':>8}  stop")
 

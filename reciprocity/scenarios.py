@@ -3,7 +3,7 @@
 A scenario file is YAML (safe-loaded)::
 
     description: the paper arena with walls 2 mm off and a 20 % stronger source
-    world: poisson            # the world kind: poisson, lattice, plume, filament, ...
+    world: poisson            # the world kind: poisson, lattice, plume, filament, flow, ...
     arena: paper              # ... then that world's own parameters; a generated arena is
                               # {generate: rooms, seed: 3} (+ size keys, see arenas.generate)
     source: [70.21, 70.21]
@@ -91,6 +91,7 @@ WORLD_KINDS: LazyRegistry = LazyRegistry({
     "lattice": "reciprocity.kinds.lattice",
     "plume": "reciprocity.kinds.plume",
     "filament": "reciprocity.kinds.filament",
+    "flow": "reciprocity.kinds.flow",
 })
 
 #: Built-in scenario files by name (filled by :func:`_scenario_files`).

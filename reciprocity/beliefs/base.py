@@ -18,7 +18,7 @@ from scipy.special import logsumexp
 from ..models.base import NoiseModel
 from ..observations import Observation
 
-__all__ = ["Belief", "Predictive", "shannon_entropy", "posterior_entropies", "expected_entropy", "gaussian_expected_entropy", "MIN_PARTICLES"]
+__all__ = ["Belief", "Predictive", "credible_mass", "shannon_entropy", "posterior_entropies", "expected_entropy", "gaussian_expected_entropy", "MIN_PARTICLES"]
 
 #: Gauss-Hermite nodes and weights for E[f(z)], z ~ N(m, s²): z = m + s·sqrt(2)·t.
 _GH_T, _GH_W = np.polynomial.hermite.hermgauss(3)
@@ -37,6 +37,13 @@ def shannon_entropy(weights: np.ndarray) -> float:
         return 0.0
     w = w / s
     return float(-np.sum(w * np.log(w)))
+
+
+def credible_mass(nodes: np.ndarray, weights: np.ndarray, centre: np.ndarray, radius: float) -> float:
+    """The share of `weights` (one per point of `nodes` (n, 2)) within `radius` of `centre`:
+    what the credible stopping rules of the reciprocity searches ask of a belief."""
+    near = np.sum((nodes - centre) ** 2, axis=1) <= radius ** 2
+    return float(weights[near].sum())
 
 
 def posterior_entropies(joint: np.ndarray, *, log: bool = False):

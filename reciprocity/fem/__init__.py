@@ -17,7 +17,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={
     "exact": ["disk_green", "free_space_advection_green", "free_space_green"],
     "green": ["Field", "GreenSolver", "GREEN_CACHE_SIZE"],
     "disk_cache": ["cache_dir"],
-    "wind": ["WindField"],
+    "wind": ["WindField", "boundary_segments"],
     "mesh": ["MAX_TRIANGLES", "cached_mesh", "mesh_free_region", "node_areas", "reentrant_corners", "triangle_areas",
              "triangle_budget"],
 })

@@ -27,7 +27,7 @@ if TYPE_CHECKING:
 
 # scikit-fem and SuperLU are imported where a potential is solved (issue 24: start-up).
 
-__all__ = ["WindField"]
+__all__ = ["WindField", "boundary_segments"]
 
 #: Degree of the potential's Lagrange elements: quadratic, so the velocity ``∇φ`` is
 #: piecewise linear and ``u·n`` on the walls converges at second order.
@@ -275,6 +275,28 @@ class WindField:
 
 
 # ---------------------------------------------------------------------- helpers
+def boundary_segments(arena: Arena, inflow, outflow) -> tuple[np.ndarray, np.ndarray]:
+    """The inflow and outflow segments checked against `arena`'s outer boundary without
+    meshing: each along one straight edge of the boundary polygon, of positive length,
+    and no inflow overlapping an outflow. (Whether an obstacle attached to the boundary
+    covers part of one is known only on the mesh: :meth:`WindField.potential`.)
+
+    Returns
+    -------
+    (ndarray (n, 2, 2), ndarray (m, 2, 2))
+        The inflow and outflow segments, cm.
+
+    Raises
+    ------
+    ReciprocityError
+        As :meth:`WindField.potential` for the same segments.
+    """
+    seg_in = _segments(arena, inflow, "inflow")
+    seg_out = _segments(arena, outflow, "outflow")
+    _check_disjoint(seg_in, seg_out)
+    return seg_in, seg_out
+
+
 def _positive(value, what: str, allow_zero: bool = False) -> float:
     try:
         v = float(value)

@@ -25,6 +25,8 @@ STRATEGIES: LazyRegistry = LazyRegistry({
     "hmm": "reciprocity.strategies.hmm_search",
     "surge-cast": "reciprocity.strategies.hmm_search",
     "detection-infotaxis": "reciprocity.strategies.detection_infotaxis",
+    "reciprocity-wind": "reciprocity.strategies.wind_reciprocity",
+    "free-space-wind": "reciprocity.strategies.wind_reciprocity",
 })
 
 

@@ -36,7 +36,7 @@ class RandomWalkStrategy(Strategy):
     """
 
     name = "random-walk"
-    worlds = ("poisson", "lattice", "plume", "filament")
+    worlds = ("poisson", "lattice", "plume", "filament", "flow")
     agents = None
 
     def __init__(self, *, n_steps: int = 10, step: float = 10.0, clearance: float = 3.0):

@@ -6,6 +6,7 @@ import numpy as np
 
 from arenas import ArenaError
 
+from ..beliefs.base import credible_mass
 from ..errors import MeshError, SearchError
 from ..fem.discretisation import discretisation_error
 from ..fem.green import GreenSolver
@@ -22,7 +23,7 @@ from .reach import greatest_green
 # scipy's image filters, graph routines and k-d tree are imported where they are used:
 # listing the strategies imports this module for its name and doc alone (issue 24).
 
-__all__ = ["ReciprocityStrategy", "RULES", "PRESETS", "DEFAULTS", "mass_within_reach"]
+__all__ = ["ReciprocityStrategy", "RULES", "PRESETS", "DEFAULTS", "axis_point", "mass_within_reach"]
 
 #: Next-observation rules.
 RULES = ("axis", "reach", "nearest", "info")
@@ -63,6 +64,48 @@ def mass_within_reach(candidates: np.ndarray, support: np.ndarray, weights: np.n
     blurred = gaussian_filter(hist, sigma, mode="constant", truncate=4.0) * (2 * np.pi * sigma**2)
     coords = ((candidates - lo) / cell - 0.5).T
     return map_coordinates(blurred, coords, order=1, mode="constant")
+
+
+def axis_point(space: MeshSpace, mass: np.ndarray, allowed: np.ndarray, reach: float,
+               d: float) -> np.ndarray | None:
+    """The ``"axis"`` rule's point once a belief is concentrated, else None.
+
+    Parameters
+    ----------
+    space : MeshSpace
+        The candidate points (its nodes carry `mass`).
+    mass : ndarray, shape (n,)
+        The belief's mass at each node (any positive scale).
+    allowed : ndarray of bool, shape (n,)
+        Where the next point may be.
+    reach, d : float
+        Sensing reach and least separation of points read, cm.
+
+    Returns
+    -------
+    ndarray (2,) or None
+        None while the mass spreads wider than `reach` (its major standard deviation);
+        else the allowed node nearest to the mass's major axis at ``max(d, 2 std)`` beyond
+        its centre, on the side where one lies nearer: level sets around a point on the
+        axis cut across the elongated region.
+    """
+    nodes = space.points
+    w = mass / mass.sum()
+    centre = w @ nodes
+    cov = np.cov(nodes.T, aweights=w, bias=True)
+    evals, evecs = np.linalg.eigh(cov)
+    std = float(np.sqrt(max(evals[-1], 0.0)))
+    if std > reach:
+        return None
+    axis = evecs[:, -1]
+    dist = max(d, 2.0 * std)
+    best, best_gap = None, np.inf
+    for sign in (1.0, -1.0):
+        target = centre + sign * dist * axis
+        cand = space.nearest_in(target, allowed)
+        if cand is not None and np.hypot(*(cand - target)) < best_gap:
+            best, best_gap = cand, np.hypot(*(cand - target))
+    return best
 
 
 #: Source strength assumed by :meth:`ReciprocityStrategy.start` when the world states
@@ -746,8 +789,7 @@ class ReciprocityStrategy(Strategy):
         of `estimate` (the credible rule) and every node with ``P_M >= TAIL_EPS`` lies
         within `tail_tol` of it (the tail rule)."""
         if np.isfinite(self.credible_radius):
-            near = np.sum((im.nodes - estimate) ** 2, axis=1) <= self.credible_radius ** 2
-            if float(im.weights()[near].sum()) < self.credible_mass:
+            if credible_mass(im.nodes, im.weights(), estimate, self.credible_radius) < self.credible_mass:
                 return False
         if not np.isfinite(self.tail_tol):
             return True
@@ -1004,24 +1046,7 @@ class ReciprocityStrategy(Strategy):
 
     def _axis_point(self, allowed: np.ndarray) -> np.ndarray | None:
         """The ``"axis"`` rule once the imaging mass is concentrated, else None."""
-        nodes = self.space.points
-        w = self.imaging.values() * self._node_area
-        w = w / w.sum()
-        centre = w @ nodes
-        cov = np.cov(nodes.T, aweights=w, bias=True)
-        evals, evecs = np.linalg.eigh(cov)
-        std = float(np.sqrt(max(evals[-1], 0.0)))
-        if std > self.reach:
-            return None
-        axis = evecs[:, -1]
-        dist = max(self.d, 2.0 * std)
-        best, best_gap = None, np.inf
-        for sign in (1.0, -1.0):
-            target = centre + sign * dist * axis
-            cand = self.space.nearest_in(target, allowed)
-            if cand is not None and np.hypot(*(cand - target)) < best_gap:
-                best, best_gap = cand, np.hypot(*(cand - target))
-        return best
+        return axis_point(self.space, self.imaging.values() * self._node_area, allowed, self.reach, self.d)
 
     def _score(self, allowed: np.ndarray) -> np.ndarray:
         """Imaging mass within reach of the allowed nodes; -inf elsewhere. The imaging

@@ -64,6 +64,7 @@ MOVES = {
     "lattice": ("ristic-lattice", [0, 7], [3, -2]),
     "plume": ("song-100", None, [20.0, 40.0]),
     "filament": ("farrell", [20.0, 0.0], [40.0, 10.0]),
+    "flow": ("paper-wind", [70.21, 70.21], [120.0, 80.0]),
 }
 #: Parameters that keep a strategy's start-up cheap (the first action does not depend on them).
 CHEAP = {"h": 4.0, "n_particles": 200, "particles": 500}

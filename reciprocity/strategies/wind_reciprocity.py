@@ -1,0 +1,256 @@
+"""Reciprocity in wind (issue 38): adjoint imaging of a gas source among walls from hit counts.
+
+The ``flow`` world's readings are Poisson counts of mean ``k q c(z; x) Δt``, ``c`` the
+steady advection-diffusion-decay Green's function of the arena's wind
+(:mod:`reciprocity.models.flow`). Its adjoint (the wind reversed) turns one reading into
+a statement about every candidate source: ``c(z; x) = v_z(x)`` with ``v_z`` the adjoint
+field of the reading point (:meth:`~reciprocity.fem.AdvectionSolver.adjoint`, read at the
+candidates through :meth:`~reciprocity.fem.AdvectionSolver.source_matrix`). So, as in
+Algorithm 1 of Landa et al. with its Gaussian map replaced by the count likelihood:
+
+- **model** (:class:`ArenaCounts`): one adjoint solve per reading gives the predicted
+  mean count from a unit source at every node of the strategy's mesh; its own mesh
+  (``h``), its own solver, built from what the task tells (the arena, the inflow and
+  outflow, the speed, ``D``, ``τ``, the walls, the detector's capture rate);
+- **belief** (:class:`~reciprocity.beliefs.counts.CountPosterior`): the Poisson
+  likelihood of every count, over (node, release rate), the release rate integrated out
+  over a log-uniform prior a decade either side of the stated one, as the Poisson
+  search integrates out an unknown strength;
+- **next point**: the Poisson search's ``"axis"`` rule carried over unchanged (it takes
+  any belief over mesh nodes), with a smaller ``d`` (:data:`D_READ`): the reachable
+  node, at least ``d`` from every point read,
+  with the most belief within ``reach``
+  (:func:`~reciprocity.strategies.reciprocal.mass_within_reach`); once the belief is
+  narrower than ``reach``, the node on its major axis beyond it
+  (:func:`~reciprocity.strategies.reciprocal.axis_point`). It does not know the wind:
+  an isotropic reach stands for the adjoint's footprint, which stretches upwind;
+- **stop**: the Poisson search's credible rule, CONVERGED once ``credible_mass`` of the
+  belief lies within ``credible_radius`` of the estimate (the posterior mean near the
+  most probable node); STEP_CAP after ``max_steps`` readings.
+
+``free-space-wind`` is the same search with the plume papers' model in the place of the
+arena's (:class:`FreeSpaceCounts`): the free-space Green's function of a uniform wind
+(the stated speed, blowing from the inflow toward the outflow), blind to the walls.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..beliefs.base import credible_mass
+from ..beliefs.counts import CountPosterior
+from ..errors import SearchError
+from ..fem.exact import free_space_advection_green
+from ..intents import Measure
+from ..models.flow import FlowParams, flow_solver, segments_tuple
+from ..outcome import StopReason
+from ..spaces import mesh_space
+from ..validation import number, whole
+from . import register
+from .base import SearchContext, Status, Strategy
+from .reciprocal import axis_point, mass_within_reach
+
+__all__ = ["ArenaCounts", "FreeSpaceCounts", "WindReciprocity", "FreeSpaceWind"]
+
+#: Default ``max_steps``: readings of one search.
+MAX_STEPS = 80
+#: Default ``d``, cm: half the Poisson search's 6 cm. A count tells little about where the
+#: source is within a few cm unless it is read there again: with 6 cm between points read
+#: the search stopped at its cap in 5 of 6 draws on ``paper-wind`` (the belief 2 cm wide),
+#: with 3 cm it converged in all 6 (``benchmarks/wind.md``).
+D_READ = 3.0
+#: Background count rate of the likelihood, hits/s (see :class:`CountPosterior`).
+BACKGROUND = 0.01
+
+
+def told_physics(nominal: dict) -> FlowParams:
+    """The physics a ``flow`` task states (never the truth's)."""
+    return FlowParams(segments_tuple(nominal["inflow"]), segments_tuple(nominal["outflow"]), float(nominal["speed"]),
+                      float(nominal["D"]), float(nominal["tau"]), str(nominal["walls"]),
+                      float(nominal["strength"]), float(nominal["detector"]))
+
+
+class ArenaCounts:
+    """Mean hits per second per unit release rate, from the arena's own wind and walls.
+
+    Parameters
+    ----------
+    nominal : dict
+        The ``flow`` task's description.
+    h : float
+        Mesh size of the model, cm.
+    """
+
+    def __init__(self, nominal: dict, h: float):
+        geometry = nominal["arena"].without_scenario()
+        self.physics = told_physics(nominal)
+        self.solver = flow_solver(geometry, self.physics, h)
+        self.space = mesh_space(geometry, h)
+        if self.space.points.shape != self.solver.space.nodes.shape or \
+                not np.allclose(self.space.points, self.solver.space.nodes, atol=1e-9):
+            raise SearchError("the wind model's mesh differs from the search space's; give both the same h")
+        # the source rows of every candidate, built once per search: adjoint dofs -> readings
+        self._rows = self.solver.source_matrix(self.space.points)
+
+    def rates(self, z: np.ndarray) -> np.ndarray:
+        """``k c(z; x)`` at every node ``x`` of :attr:`space`: one adjoint solve (wind reversed)."""
+        v = self.solver.adjoints(np.asarray(z, dtype=float)[None])[:, 0]
+        return self.physics.detector * (self._rows @ v)
+
+
+class FreeSpaceCounts:
+    """Mean hits per second per unit release rate in free space (the plume papers' model):
+    a uniform wind of the stated speed from the inflow's midpoint toward the outflow's,
+    no walls. The count at a candidate within ``h / 2`` of the reading is taken at
+    ``h / 2`` upwind (the free-space function is singular there; a sensor has a size).
+
+    Parameters
+    ----------
+    nominal : dict
+        The ``flow`` task's description.
+    h : float
+        Mesh size of the candidate nodes, cm.
+    """
+
+    def __init__(self, nominal: dict, h: float):
+        self.physics = p = told_physics(nominal)
+        self.space = mesh_space(nominal["arena"].without_scenario(), h)
+        mid_in = np.mean([np.mean(s, axis=0) for s in p.inflow], axis=0)
+        mid_out = np.mean([np.mean(s, axis=0) for s in p.outflow], axis=0)
+        along = mid_out - mid_in
+        self.wind = p.speed * along / np.hypot(*along)
+        self.near = 0.5 * h
+
+    def rates(self, z: np.ndarray) -> np.ndarray:
+        z = np.asarray(z, dtype=float)
+        r = self.space.points - z
+        d = np.hypot(r[:, 0], r[:, 1])
+        upwind = -self.wind / np.hypot(*self.wind)
+        direction = np.where(d[:, None] > 0, r / np.maximum(d, 1e-300)[:, None], upwind[None])
+        x = np.where(d[:, None] < self.near, z + self.near * direction, self.space.points)
+        # the reading at z from a source at x: the wind reversed, read from z
+        c = free_space_advection_green(x, z, -self.wind, self.physics.D, self.physics.tau)
+        return self.physics.detector * c
+
+
+@register
+class WindReciprocity(Strategy):
+    """Reciprocity in wind: one adjoint solve per reading, the count likelihood, the
+    ``"axis"`` rule and the credible stop (see the module doc).
+
+    Parameters
+    ----------
+    h : float
+        Mesh size of the strategy's model and candidate nodes, cm.
+    d : float
+        Least distance between points read, cm.
+    reach : float
+        Kernel length of the next-point rule, cm.
+    credible_radius : float
+        Radius of the credible stop, cm.
+    credible_mass : float
+        Share of the belief within `credible_radius` that stops the search, in (0, 1).
+    max_steps : int
+        Readings before the search stops at its cap.
+    clearance : float
+        Points read keep this distance from the walls, cm.
+    background : float
+        Background count rate of the likelihood, hits/s.
+    """
+
+    name = "reciprocity-wind"
+    worlds = ("flow",)
+    agents = 1
+    #: How a reading's mean counts are predicted from what the task tells.
+    model = ArenaCounts
+
+    def __init__(self, *, h: float = 2.0, d: float = D_READ, reach: float = 12.0, credible_radius: float = 3.0,
+                 credible_mass: float = 0.95, max_steps: int = MAX_STEPS, clearance: float = 3.0,
+                 background: float = BACKGROUND):
+        super().__init__()
+        self.h = number(h, "h", 0.25, 20.0, unit="cm")
+        self.d = number(d, "d", 0.0, 1e3, lo_open=True, unit="cm")
+        self.reach = number(reach, "reach", 0.0, 1e3, lo_open=True, unit="cm")
+        self.credible_radius = number(credible_radius, "credible_radius", 0.0, 1e3, lo_open=True, unit="cm")
+        self.credible_mass = number(credible_mass, "credible_mass", 0.0, 1.0, lo_open=True, hi_open=True)
+        self.max_steps = whole(max_steps, "max_steps", 1, 100_000)
+        self.clearance = number(clearance, "clearance", 0.0, 100.0, unit="cm")
+        self.background = number(background, "background", 0.0, 1e6, lo_open=True, unit="hits/s")
+
+    def params(self) -> dict:
+        return dict(h=self.h, d=self.d, reach=self.reach, credible_radius=self.credible_radius,
+                    credible_mass=self.credible_mass, max_steps=self.max_steps, clearance=self.clearance,
+                    background=self.background)
+
+    def start(self, ctx: SearchContext) -> None:
+        self._reset_state()
+        if ctx.world not in self.worlds:
+            raise SearchError(f"strategy {self.name!r} applies to flow worlds; got {ctx.world!r}")
+        self.counts = self.model(ctx.nominal, self.h)
+        self.space = self.counts.space
+        q = float(ctx.nominal["strength"])
+        self.belief = CountPosterior(self.space.points, self.space.cell_areas, (q / 10.0, q * 10.0),
+                                     background=self.background)
+        self._reachable = self.space.reachable_from(ctx.start[:2], self.clearance)
+        self._far = np.ones(len(self.space.points), dtype=bool)
+        self._next = np.asarray(ctx.start[:2], dtype=float).copy()
+        if not self._reachable.any():
+            self.stop(StopReason.UNREACHABLE, "no observation point is reachable")
+
+    # -- protocol ------------------------------------------------------------------------
+    def propose(self) -> Measure | None:
+        return None if self.done else Measure(self._next.copy())
+
+    def observe(self, observations, intent, agent: int = 0) -> None:
+        obs = observations[0]
+        z = np.asarray(obs.position, dtype=float)
+        self.belief.add(self.counts.rates(z), float(obs.value), float(obs.dwell))
+        self.n_measurements += 1
+        self.n_samples += 1
+        self._far &= self.space.separated(z[None], self.d)
+        estimate = self.belief.estimate(self.credible_radius)
+        held = credible_mass(self.space.points, self.belief.weights(), estimate, self.credible_radius)
+        self.status = Status(estimate, None, extra=dict(credible=held, entropy=self.belief.entropy()))
+        if held >= self.credible_mass:
+            self.stop(StopReason.CONVERGED, f"{held:.3f} of the belief within {self.credible_radius:g} cm "
+                                            "of the estimate")
+        elif self.n_measurements >= self.max_steps:
+            self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} readings")
+        else:
+            self._choose_next()
+
+    def restrict(self, mask_of) -> None:
+        mask = mask_of(self.space.points)
+        if mask is not None:
+            self._reachable &= mask
+
+    def reject(self, intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
+        """Exclude the neighbourhood of an unreachable target and choose again."""
+        if self._count_rejection(reason):
+            return
+        self._reachable &= ~self.space.around(point, max(0.5 * self.d, self.h))
+        self._choose_next()
+
+    # -- the next point --------------------------------------------------------------------
+    def _choose_next(self) -> None:
+        allowed = self._reachable & self._far
+        idx = np.flatnonzero(allowed)
+        if idx.size == 0:
+            self.stop(StopReason.NO_TARGET, "no admissible observation point left")
+            return
+        w = self.belief.weights()
+        nxt = axis_point(self.space, w, allowed, self.reach, self.d)
+        if nxt is None:
+            score = mass_within_reach(self.space.points[idx], self.space.points, w, self.reach)
+            nxt = self.space.points[idx[int(np.argmax(score))]]
+        self._next = np.asarray(nxt, dtype=float).copy()
+        self.status.extra["next"] = self._next.tolist()
+
+
+@register
+class FreeSpaceWind(WindReciprocity):
+    """:class:`WindReciprocity` with the free-space likelihood of a uniform wind, blind to
+    the walls (the plume papers' model; see the module doc)."""
+
+    name = "free-space-wind"
+    model = FreeSpaceCounts
