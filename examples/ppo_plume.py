@@ -63,22 +63,9 @@ def evaluate(act, seeds, *, strategy: str | None = None, desc: str = "evaluating
     """Mean steps (a failure counts as the whole budget) and success rate of a policy over
     `seeds`. `act(observation) -> action`, or `strategy` for a built-in one. A progress bar
     over the episodes shows on a terminal."""
-    from tqdm import tqdm
-    import reciprocity.gym as rg
-    steps, wins = [], 0
-    for seed in tqdm(seeds, desc=desc, unit="ep", leave=False, file=sys.stderr, disable=not sys.stderr.isatty()):
-        env = make_env()
-        policy = rg.StrategyPolicy(strategy, env) if strategy else None
-        obs, _ = env.reset(seed=int(seed))
-        if policy:
-            policy.reset(int(seed))
-        done, info = False, {}
-        while not done:
-            obs, _, terminated, truncated, info = env.step(policy(obs) if policy else act(obs))
-            done = terminated or truncated
-        wins += bool(info["success"])
-        steps.append(info["steps"] if info["success"] else MAX_STEPS)
-    return float(np.mean(steps)), wins / len(seeds)
+    from reciprocity.gym.training import evaluate as run
+    result = run(make_env, seeds, act, strategy=strategy, desc=desc)
+    return result.mean_steps(MAX_STEPS), result.rate
 
 
 def random_walk(seed: int):
@@ -117,22 +104,6 @@ def write_results(rows: list[dict], n_episodes: int, out: Path) -> None:
     plot_curve(rows, n_episodes, out / "learning_curve.png")
 
 
-def progress_callback(total: int, every: int):
-    """An SB3 callback that prints the steps trained every `every` steps (and the rate)."""
-    from stable_baselines3.common.callbacks import BaseCallback
-
-    class Progress(BaseCallback):
-        def _on_training_start(self) -> None:
-            self.t0, self.n0 = time.perf_counter(), self.num_timesteps
-
-        def _on_step(self) -> bool:
-            if self.num_timesteps % every == 0:
-                rate = (self.num_timesteps - self.n0) / max(time.perf_counter() - self.t0, 1e-9)
-                print(f"  {self.num_timesteps:>8} / {total} steps trained ({rate:.0f} steps/s)", flush=True)
-            return True
-    return Progress()
-
-
 def main(argv=None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--timesteps", type=int, default=200_000)
@@ -160,7 +131,8 @@ def main(argv=None) -> list[dict]:
     model = PPO("MlpPolicy", env, seed=args.seed, n_steps=1024, batch_size=256, gamma=0.995, verbose=0)
     rows = []
     done_steps, clock = 0, time.perf_counter()
-    report = progress_callback(args.timesteps, args.report_every)
+    from reciprocity.gym.training import sb3_progress
+    report = sb3_progress(args.timesteps, args.report_every)
     while True:
         mean, rate = evaluate(lambda o: int(model.predict(o, deterministic=True)[0]), seeds, desc="PPO")
         rows.append(dict(timesteps=done_steps, ppo_steps=mean, ppo_success=rate, infotaxis_steps=info_steps,

@@ -77,6 +77,31 @@ def test_ppo_plume_trains_when_stable_baselines3_is_installed(tmp_path):
     assert len((tmp_path / "learning_curve.csv").read_text().splitlines()) == 3
 
 
+def test_ppo_poisson_environment_and_evaluation(tmp_path):
+    """The Poisson PPO example's environment, references and figure (training needs PyTorch)."""
+    mod = load("ppo_poisson")
+    rows = [dict(timesteps=t, ppo_success=s, ppo_low=max(s - 0.1, 0), ppo_high=min(s + 0.1, 1), ppo_steps=9.0,
+                 strategy_success=1.0, strategy_steps=6.0, random_success=0.0, random_steps=1.0, wall_s=1.0)
+            for t, s in ((0, 0.0), (10, 0.5))]
+    mod.write_results(rows, 3, tmp_path)
+    assert (tmp_path / "learning_curve.png").stat().st_size > 10_000
+    assert len((tmp_path / "learning_curve.csv").read_text().splitlines()) == 3
+    env = mod.make_env()
+    obs, _ = env.reset(seed=0)
+    assert env.observation_space.contains(obs) and env.action_space.shape == (3,)
+    ref = mod.evaluate(None, [10_000, 10_001], strategy="reciprocity")
+    rnd = mod.evaluate(mod.random_actions(0), [10_000, 10_001])
+    assert ref["success"] == 1.0 and ref["low"] < 1.0 and rnd["success"] <= ref["success"]
+
+
+def test_ppo_poisson_trains_when_stable_baselines3_is_installed(tmp_path):
+    import pytest
+    pytest.importorskip("stable_baselines3")
+    rows = load("ppo_poisson").main(["--timesteps", "256", "--eval-every", "256", "--eval-seeds", "2",
+                                     "--envs", "1", "--out", str(tmp_path)])
+    assert len(rows) == 2 and (tmp_path / "learning_curve.png").exists() and (tmp_path / "ppo_poisson.zip").exists()
+
+
 def test_every_example_takes_an_output_folder():
     """The gallery's contract: ``python examples/NAME.py --out DIR`` writes its figures in DIR."""
     missing = [p.name for p in EXAMPLES.glob("*.py") if 'add_argument("--out"' not in p.read_text()]

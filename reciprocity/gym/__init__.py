@@ -13,8 +13,9 @@ id                            default scenario       action
 ============================  =====================  ==========================================
 
 ``Poisson-v0`` draws a new source and start at every reset, from its seed
-(``random_source=True``), and has a budget of 40 rounds (``max_steps=40``: a failed stop
-pays the rounds left), so that it can be learned; ``random_source=False`` gives the
+(``random_source=True``), and has a budget of 40 rounds that is part of the task
+(``max_steps=40``: a failed stop pays the rounds left, and a spent budget *terminates*,
+``cap_terminates=True``), so that it can be learned; ``random_source=False`` gives the
 arena's own source and start.
 
 Each takes ``scenario=`` (a built-in name or a YAML path) and the scenario's world keys
@@ -29,13 +30,14 @@ import gymnasium
 
 from .env import SUCCESS_REWARD, DeclaringAgent, SearchGymEnv
 from .policy import StrategyPolicy
-from .wrappers import BeliefImage
+from .wrappers import BeliefImage, BeliefStop
 
-__all__ = ["SearchGymEnv", "StrategyPolicy", "BeliefImage", "DeclaringAgent", "SUCCESS_REWARD", "IDS"]
+__all__ = ["SearchGymEnv", "StrategyPolicy", "BeliefImage", "BeliefStop", "DeclaringAgent", "SUCCESS_REWARD", "IDS"]
 
 #: The registered ids and their default arguments.
 IDS = {
-    "reciprocity/Poisson-v0": dict(scenario="paper", platform="point", random_source=True, max_steps=40),
+    "reciprocity/Poisson-v0": dict(scenario="paper", platform="point", random_source=True, max_steps=40,
+                                   cap_terminates=True),
     "reciprocity/PoissonCar-v0": dict(scenario="paper", platform="car"),
     "reciprocity/Lattice-v0": dict(scenario="ristic-lattice"),
     "reciprocity/Plume-v0": dict(scenario="otto-2d"),

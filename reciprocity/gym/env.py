@@ -104,6 +104,12 @@ class SearchGymEnv(gymnasium.Env):
         Draw the true source and the start afresh at every reset, from the episode seed
         (arena scenarios; as a campaign's ``random_source: true`` and ``reciprocity run
         --random-source`` draw them), so that a policy cannot learn one place by heart.
+    cap_terminates : bool
+        When the round budget is spent, report ``terminated`` instead of ``truncated``.
+        The budget is then part of the task, as the reward already treats it (a failed
+        stop pays the rounds left): a learner that bootstraps the value of a truncated
+        state (stable-baselines3 does) otherwise values running out the budget as
+        "the search goes on" and never learns that stopping can pay.
     **world
         The scenario's keys: its world's (``source``, ``strength``, ``noise``,
         ``mismatch``, ``start`` with the heading in radians, ...), ``max_steps`` and
@@ -119,7 +125,8 @@ class SearchGymEnv(gymnasium.Env):
     per round, plus `success_reward` at the end of a successful episode; a failed episode
     also pays -1 for each round of the budget left (see :func:`end_reward`). ``terminated``
     when the search ends by itself (the source reached, or the policy's stop action);
-    ``truncated`` when the scenario's round budget is spent. The last ``info`` holds
+    ``truncated`` when the scenario's round budget is spent (``terminated`` with
+    `cap_terminates`). The last ``info`` holds
     every key of the episode summary (``success``, ``error``, ``n_measurements``, ...)
     and ``summary`` itself.
     """
@@ -128,11 +135,13 @@ class SearchGymEnv(gymnasium.Env):
 
     def __init__(self, scenario="paper", *, platform: str | None = None, render_mode: str | None = None,
                  success_reward: float = SUCCESS_REWARD, platform_options: dict | None = None,
-                 random_source: bool = False, **world):
+                 random_source: bool = False, cap_terminates: bool = False, **world):
         if render_mode not in (None, "rgb_array"):
             raise SearchError(f"render_mode must be 'rgb_array' or None; got {render_mode!r}")
         if random_source not in (True, False):
             raise SearchError(f"random_source must be true or false; got {random_source!r}")
+        if cap_terminates not in (True, False):
+            raise SearchError(f"cap_terminates must be true or false; got {cap_terminates!r}")
         sc = load_scenario(scenario) if not hasattr(scenario, "kind") else scenario
         sc = sc.with_limits(max_steps=world.pop("max_steps", None), success_radius=world.pop("success_radius", None))
         if random_source and (sc.world != "poisson" or {"source", "sources", "start"} & set(world)):
@@ -146,6 +155,7 @@ class SearchGymEnv(gymnasium.Env):
             raise SearchError(f"scenario {sc.name!r} has {self.search.n_agents} observers: use "
                               "reciprocity.pettingzoo.parallel_env for several")
         self.render_mode = render_mode
+        self.cap_terminates = bool(cap_terminates)
         self.success_reward = float(success_reward)
         nominal = self.search.scenario.build_world(0).nominal()         # public: the spaces
         self.face = face_for(self.search.scenario.world, self.search.platform_name, nominal)
@@ -217,7 +227,8 @@ class SearchGymEnv(gymnasium.Env):
         self.summary = episode.summary
         spent = -float(self.search.rounds - rounds)                    # -1 per round carried out
         reward = spent + end_reward(self.summary, self.search, self.success_reward)
-        truncated = str(self.summary.get("stop_reason", "")).startswith(StopReason.STEP_CAP.value)
+        capped = str(self.summary.get("stop_reason", "")).startswith(StopReason.STEP_CAP.value)
+        truncated = capped and not self.cap_terminates
         info = dict(self.summary)
         info["summary"] = self.summary
         info["episode"] = episode

@@ -224,6 +224,18 @@ def test_poisson_v0_draws_its_source_and_start_as_the_command_line_does(seed, tm
     assert same_summary(info["summary"], summary) == [] and info["success"]
 
 
+def test_poisson_v0_ends_its_budget_as_a_terminal_state():
+    """The budget is part of Poisson-v0's task: spent, it terminates (no bootstrapping
+    past it); the other ids keep Gymnasium's time limit."""
+    env = gymnasium.make("reciprocity/Poisson-v0", max_steps=2)
+    env.reset(seed=0)
+    out = [env.step(np.array([20.0 + 30 * k, 30.0, 0.0])) for k in range(2)]
+    assert [(o[2], o[3]) for o in out] == [(False, False), (True, False)]
+    assert out[-1][4]["stop_reason"].startswith("step cap") and not out[-1][4]["success"]
+    with pytest.raises(SearchError, match="cap_terminates"):
+        gymnasium.make("reciprocity/Poisson-v0", cap_terminates="yes")
+
+
 def test_poisson_v0_is_a_new_search_at_every_seed_and_a_failed_stop_costs_the_budget():
     env = gymnasium.make("reciprocity/Poisson-v0")
     starts = {tuple(env.reset(seed=s)[1]["task"].starts[0][:2].round(6)) for s in range(5)}
@@ -239,3 +251,56 @@ def test_poisson_v0_is_a_new_search_at_every_seed_and_a_failed_stop_costs_the_bu
     env.reset()                                                      # no seed: the env's own generator
     with pytest.raises(SearchError, match="random_source"):
         gymnasium.make("reciprocity/Poisson-v0", source=[30.0, 30.0])
+
+
+def test_belief_stop_maps_actions_onto_the_arena_and_stops_at_the_beliefs_estimate():
+    env = rg.BeliefStop(rg.BeliefImage(gymnasium.make("reciprocity/Poisson-v0", source=[70.0, 70.0],
+                                                     random_source=False), size=16), frame="arena")
+    assert env.action_space.shape == (3,) and env.action_space.low.min() == -1.0 == -env.action_space.high.max()
+    assert env.observation_space.shape == (2, 16, 16) and env.observation_space.high.max() == 1.0
+    obs, _ = env.reset(seed=0)
+    lo, hi = env.unwrapped.face.bounds()
+    assert np.allclose(env.action(np.array([-1.0, 1.0, -1.0]))[:2], [lo[0], hi[1]])
+    assert np.allclose(env.action(np.array([0.0, 0.0, -0.2])), [*(lo + hi) / 2, 0.0])
+    for point in ([-0.4, -0.4], [0.4, -0.4], [-0.4, 0.4], [0.3, 0.2]):
+        obs, reward, terminated, truncated, info = env.step(np.array([*point, -1.0]))
+        assert env.observation_space.contains(obs) and not terminated
+    estimate = env.get_wrapper_attr("estimate")()
+    obs, reward, terminated, truncated, info = env.step(np.array([-1.0, -1.0, 0.0]))
+    assert terminated and np.allclose(info["estimate"], estimate)   # the belief's, not the corner's
+
+
+def test_the_spread_frame_reads_in_the_beliefs_own_axes_and_the_spread_is_its_log_sd():
+    env = rg.BeliefStop(rg.BeliefImage(gymnasium.make("reciprocity/Poisson-v0"), size=16, features=True))
+    obs, _ = env.reset(seed=3)
+    assert set(obs) == {"image", "spread", "budget"} and env.observation_space.contains(obs)
+    image = env.get_wrapper_attr("moments").__self__
+    for k in range(8):                          # around the belief's mean, in its own axes
+        mean, axes, sd = image.moments()
+        assert sd[0] >= sd[1] and np.allclose(axes.T @ axes, np.eye(2))
+        lo, hi = env.unwrapped.face.bounds()
+        a = np.array([0.5 * np.cos(k * np.pi / 2), 0.5 * np.sin(k * np.pi / 2), -1.0])
+        assert np.allclose(env.action(a)[:2], np.clip(mean + axes @ (a[:2] * 2 * sd), lo, hi))
+        obs, reward, terminated, truncated, info = env.step(a)
+        assert env.observation_space.contains(obs)
+        sd = image.moments()[2]
+        assert np.allclose(obs["spread"], np.log1p(sd) / np.log1p(np.hypot(*(hi - lo))), atol=1e-6)
+        assert obs["budget"][0] == pytest.approx((k + 1) / 40)
+
+
+def test_check_env_passes_on_the_learning_stack():
+    """Bounded, normalised spaces: only check_env's note that the env is wrapped remains."""
+    env = rg.BeliefStop(rg.BeliefImage(gymnasium.make("reciprocity/Poisson-v0"), size=16, h=4.0, features=True))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env, skip_render_check=True)
+    assert [str(w.message) for w in caught if "different from the unwrapped" not in str(w.message)] == []
+
+
+def test_belief_stop_takes_only_point_worlds_over_a_belief_image():
+    with pytest.raises(SearchError, match="point world"):
+        rg.BeliefStop(rg.BeliefImage(gymnasium.make("reciprocity/Plume-v0"), size=16))
+    with pytest.raises(SearchError, match="BeliefImage"):
+        rg.BeliefStop(gymnasium.make("reciprocity/Poisson-v0"))
+    with pytest.raises(SearchError, match="frame"):
+        rg.BeliefStop(rg.BeliefImage(gymnasium.make("reciprocity/Poisson-v0"), size=16), frame="nope")
