@@ -10,6 +10,7 @@ id                            default scenario       action
 ``reciprocity/Lattice-v0``    ``ristic-lattice``     ``Discrete(6)``: stay, E, W, N, S, stop
 ``reciprocity/Plume-v0``      ``otto-2d``            ``Discrete(n + 2)``: the moves, stay, stop
 ``reciprocity/Filament-v0``   ``farrell``            ``Box [x, y, stop]``: next point, m
+``reciprocity/Flow-v0``       ``paper-wind``         ``Box [x, y, stop]``: next point, cm
 ============================  =====================  ==========================================
 
 ``Poisson-v0`` draws a new source and start at every reset, from its seed
@@ -42,6 +43,7 @@ IDS = {
     "reciprocity/Lattice-v0": dict(scenario="ristic-lattice"),
     "reciprocity/Plume-v0": dict(scenario="otto-2d"),
     "reciprocity/Filament-v0": dict(scenario="farrell"),
+    "reciprocity/Flow-v0": dict(scenario="paper-wind"),
 }
 
 for _id, _kwargs in IDS.items():

@@ -288,7 +288,7 @@ class WalkerFace(Face):
 
 def face_for(kind: str, platform: str, nominal: dict) -> Face:
     """The face of world `kind` seen from `platform`, for a world of this `nominal`."""
-    if kind == "poisson":
+    if kind in ("poisson", "flow"):
         return PointFace(nominal)
     if kind == "lattice":
         return LatticeFace(nominal)

@@ -17,7 +17,8 @@ __all__ = ["BeliefImage", "BeliefStop", "BELIEF_OF"]
 #: The strategy whose belief :class:`BeliefImage` keeps, per world kind: the Bayesian
 #: model each world's papers use (the imaging map, the RBPF, the particle belief, the
 #: detection grid).
-BELIEF_OF = {"poisson": "reciprocity", "lattice": "rbpf", "plume": "infotaxis", "filament": "detection-infotaxis"}
+BELIEF_OF = {"poisson": "reciprocity", "lattice": "rbpf", "plume": "infotaxis", "filament": "detection-infotaxis",
+             "flow": "reciprocity-wind"}
 
 
 class BeliefImage(gymnasium.ObservationWrapper, gymnasium.utils.RecordConstructorArgs):

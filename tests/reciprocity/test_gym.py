@@ -47,6 +47,7 @@ def test_check_env_passes(env_id):
     ("reciprocity/Plume-v0", "otto-2d", "infotaxis", {}, {}),
     ("reciprocity/Plume-v0", "song-100", "infotaxis", {}, {"max_turn": 30}),
     ("reciprocity/Lattice-v0", "ristic-lattice", "rbpf", RBPF, {}),
+    ("reciprocity/Flow-v0", "paper-wind", "reciprocity-wind", {"h": 2.0}, {}),
 ])
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_strategy_policy_runs_the_cli_episode(env_id, scenario, strategy, params, world, seed):
@@ -70,7 +71,8 @@ def test_the_car_runs_the_cli_episode():
 
 @pytest.mark.parametrize("env_id, strategy, params", [
     ("reciprocity/Poisson-v0", "reciprocity", {}), ("reciprocity/Plume-v0", "infotaxis", {}),
-    ("reciprocity/Lattice-v0", "rbpf", RBPF), ("reciprocity/Filament-v0", "detection-infotaxis", {})])
+    ("reciprocity/Lattice-v0", "rbpf", RBPF), ("reciprocity/Filament-v0", "detection-infotaxis", {}),
+    ("reciprocity/Flow-v0", "reciprocity-wind", {"h": 2.0})])
 def test_rgb_frames_and_the_belief_image(env_id, strategy, params):
     env = rg.BeliefImage(gymnasium.make(env_id, render_mode="rgb_array"), size=24)
     policy = rg.StrategyPolicy(strategy, env, **params)
