@@ -460,10 +460,52 @@ def _common(p: argparse.ArgumentParser) -> None:
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is one line on stderr and exit status 2."""
+    """argparse, but a usage error is one line on stderr and exit status 2.
+
+    ``declare(parser)``, when given, adds the arguments when the command is chosen or its
+    help is asked for, not when the parser is built (the campaign layer's commands: their
+    flags are checked by the campaign layer, which ``run`` and ``--help`` never import).
+    """
+
+    def __init__(self, *args, declare=None, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._declare = declare
+
+    def _declared(self) -> None:
+        if self._declare is not None:
+            declare, self._declare = self._declare, None
+            declare(self)
+
+    def parse_known_args(self, args=None, namespace=None):
+        self._declared()
+        return super().parse_known_args(args, namespace)
+
+    def format_usage(self) -> str:
+        self._declared()
+        return super().format_usage()
+
+    def format_help(self) -> str:
+        self._declared()
+        return super().format_help()
 
     def error(self, message: str):
         self.exit(2, f"error: {message} (see `{self.prog} --help`)\n")
+
+
+#: The campaign layer's commands and their one-line help; their arguments are declared
+#: by :func:`reciprocity.campaign.cli.declare` when one of them is chosen.
+CAMPAIGN_COMMANDS = {
+    "campaign": "strategies × scenarios × seeds on Dask, results as Parquet (re-run to resume)",
+    "report": "tables and figures of a campaign's results",
+    "reproduce": "re-run a published table beside the paper's numbers",
+}
+
+
+def _declare_campaign_command(name: str):
+    def declare(parser: argparse.ArgumentParser) -> None:
+        from .campaign.cli import declare as campaign_declare
+        campaign_declare(name, parser)
+    return declare
 
 
 class _Version(argparse.Action):
@@ -524,8 +566,8 @@ def build_parser() -> argparse.ArgumentParser:
                       help="observer: the simulated micro-car (default) or a point")
     _common(demo)
     demo.set_defaults(func=cmd_demo)
-    from .campaign.cli import add_commands
-    add_commands(sub)
+    for name, text in CAMPAIGN_COMMANDS.items():
+        sub.add_parser(name, help=text, declare=_declare_campaign_command(name))
     return parser
 
 

@@ -58,6 +58,35 @@ def test_listings_load_no_heavy_stack(command):
     assert json.loads(done.stdout.splitlines()[-1]) == []
 
 
+#: Run in a fresh interpreter with a command line after ``-c``: builds the ``reciprocity``
+#: parser, parses the command line (help or not), then prints whether the campaign layer
+#: got imported.
+PARSER_PROBE = """
+import contextlib, io, sys
+import reciprocity.cli
+with contextlib.redirect_stdout(io.StringIO()):
+    try:
+        reciprocity.cli.build_parser().parse_args(sys.argv[1:])
+    except SystemExit:
+        pass
+print("reciprocity.campaign" in sys.modules)
+"""
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["run", "--help"],
+                                  ["run", "--arena", "paper", "--strategy", "reciprocity"]])
+def test_the_parser_of_run_leaves_out_the_campaign_layer(argv):
+    # the campaign layer declares its own commands' flags, on use (issue 37)
+    done = subprocess.run([sys.executable, "-c", PARSER_PROBE, *argv], capture_output=True, text=True, check=True)
+    assert done.stdout.split()[-1] == "False"
+
+
+def test_the_campaign_commands_declare_their_flags_on_use():
+    done = subprocess.run([sys.executable, "-c", PARSER_PROBE, "reproduce", "--help"], capture_output=True,
+                          text=True, check=True)
+    assert done.stdout.split()[-1] == "True"
+
+
 @pytest.mark.parametrize("package", ["arenas", "hjplanner", "reciprocity", "reciprocity.fem",
                                      "reciprocity.campaign"])
 def test_lazy_exports_resolve_and_are_listed(package):
