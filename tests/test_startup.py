@@ -88,7 +88,7 @@ def test_the_campaign_commands_declare_their_flags_on_use():
 
 
 @pytest.mark.parametrize("package", ["arenas", "hjplanner", "reciprocity", "reciprocity.fem",
-                                     "reciprocity.campaign"])
+                                     "reciprocity.campaign", "reciprocity.kinds"])
 def test_lazy_exports_resolve_and_are_listed(package):
     module = importlib.import_module(package)
     assert module.__all__ and set(module.__all__) <= set(dir(module))
@@ -96,3 +96,11 @@ def test_lazy_exports_resolve_and_are_listed(package):
         assert getattr(module, name) is not None, name
     with pytest.raises(AttributeError):
         module.no_such_name
+
+
+def test_the_registries_resolve_every_builtin_name_through_the_lazy_exports():
+    # one lazy mechanism (issue 37): a registry names an attribute its package exports lazily
+    from reciprocity.scenarios import WORLD_KINDS
+    from reciprocity.strategies import STRATEGIES
+    assert all(STRATEGIES[name].name == name for name in STRATEGIES)
+    assert all(WORLD_KINDS[name].name == name for name in WORLD_KINDS)
