@@ -93,7 +93,7 @@ def _agents(cls, sc: Scenario, agents: int | None) -> int:
 
 def execute(scenario: str | Scenario | Arena, strategy: str, *, seed: int = 0, params: dict | None = None,
             platform: str | None = None, agents: int | None = None, world: dict | None = None,
-            platform_options: dict | None = None, progress=None):
+            platform_options: dict | None = None, progress=None, figures: bool = False):
     """Like :func:`run`, but return ``(episode, strategy, platforms)``.
 
     The episode runs as every episode does: a :class:`~reciprocity.env.SearchEnv` (the
@@ -107,15 +107,15 @@ def execute(scenario: str | Scenario | Arena, strategy: str, *, seed: int = 0, p
                platform_options=platform_options)
     n = _agents(STRATEGIES[strategy], sc, agents)
     env = SearchEnv(sc, platform=platform, agents=n, platform_options=platform_options)
-    agent = StrategyAgent(STRATEGIES[strategy], params)
-    episode = rollout(env, agent, seed, progress=progress,
+    agent = StrategyAgent(STRATEGIES[strategy], params, figures=figures)
+    episode = rollout(env, agent, seed, progress=progress, figures=figures,
                       options={"progress": True} if progress is not None else None)
     return episode, agent.strategy, env.platforms
 
 
 def run(scenario: str | Scenario | Arena, strategy: str, *, seed: int = 0, params: dict | None = None,
         platform: str | None = None, agents: int | None = None, world: dict | None = None,
-        platform_options: dict | None = None, progress=None) -> Episode:
+        platform_options: dict | None = None, progress=None, figures: bool = False) -> Episode:
     """Run one episode of `strategy` in `scenario`.
 
     Parameters
@@ -140,6 +140,9 @@ def run(scenario: str | Scenario | Arena, strategy: str, *, seed: int = 0, param
         Options of the platform (car: :data:`reciprocity.platforms.car.CAR_KEYS`).
     progress : callable, optional
         Called with each step record.
+    figures : bool
+        Keep what the figures draw in the episode (:attr:`Episode.belief`,
+        :attr:`Episode.truth`; :func:`reciprocity.viz.episode.episode_figures` draws them).
 
     Returns
     -------
@@ -154,4 +157,4 @@ def run(scenario: str | Scenario | Arena, strategy: str, *, seed: int = 0, param
     ('poisson', True)
     """
     return execute(scenario, strategy, seed=seed, params=params, platform=platform, agents=agents,
-                   world=world, platform_options=platform_options, progress=progress)[0]
+                   world=world, platform_options=platform_options, progress=progress, figures=figures)[0]

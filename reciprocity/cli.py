@@ -149,58 +149,35 @@ def _header(world: str = "poisson") -> str:
             f"{'error ' + unit:>9}  {'estimate':<18} {'contacts':>8}  stop")
 
 
-def _write_figures(out: Path, episode, strategy, platform, arena, *, video: bool = False) -> list[Path]:
-    from .viz.figures import gradient_run_figure, imaging_steps_figure
+def _write_figures(out: Path, episode, arena, *, video: bool = False) -> list[Path]:
+    """The episode's figures (PNG) from its record (``run(..., figures=True)``); on the car
+    also its painted floor, the sensor calibration and (unless told not to) the video."""
+    from .viz.episode import episode_figures
     out.mkdir(parents=True, exist_ok=True)
-    name = episode.summary["strategy"]
-    car = platform.name == "car"
-    prefix = f"{name}_car" if car else name
+    s = episode.summary
+    prefix = s["strategy"] if s["platform"] == "point" else f"{s['strategy']}_{s['platform']}"
     files = []
-    book = getattr(strategy, "book", None) if name == "reciprocity" else None
-    if book is not None:                                        # several sources
-        from .viz.figures import sources_figure
-        fig = sources_figure(episode, book.active, arena)
-        files.append(out / f"{prefix}_sources.png")
+    for name, fig in episode_figures(episode, arena):
+        files.append(out / f"{prefix}_{name}.png")
         fig.savefig(files[-1], dpi=150)
-    if name == "reciprocity":
-        # the first source's map: every reading, imaged as one source (the steps to the first)
-        steps = None
-        if book is not None:          # the first step, each step that found a source, the last
-            counts = [len(r.get("estimates") or []) for r in episode.trace]
-            steps = sorted({1, len(counts)} | {k + 1 for k in range(1, len(counts)) if counts[k] > counts[k - 1]}
-                           | ({1 + counts.index(1)} if 1 in counts else set()))
-        reach = strategy.within_reach() if book is None else None
-        fig = imaging_steps_figure(episode, strategy.imaging if book is None else book.raw, arena,
-                                   eps=strategy.eps, steps=steps, within_reach=reach)
-        files.append(out / f"{prefix}_steps.png")
-    else:
-        floor = platform.testbed.floor if car else None
-        fig = gradient_run_figure(episode, platform.world.field, arena, strategy.gradients,
-                                  floor=floor)
-        files.append(out / f"{prefix}_path.png")
-    fig.savefig(files[-1], dpi=150)
-    if getattr(strategy, "mapping", None) is not None:          # map: unknown
-        from .viz.mapping import mapping_steps_figure
-        files.append(out / f"{prefix}_map_steps.png")
-        mapping_steps_figure(episode, strategy, platform.world.true_arena).savefig(files[-1], dpi=150)
-    if car:
-        files.extend(_write_testbed_files(out, platform))
+    floor = episode.truth.get("floor")
+    if floor is not None:                                       # the testbed
+        files.extend(_write_testbed_files(out, floor, episode.truth["calibration"]))
         if video:
             from .viz.video import write_video
-            imaging = strategy.imaging if name == "reciprocity" else None
-            files.append(write_video(out / f"{prefix}.mp4", episode, arena, platform.testbed.floor.image,
-                                     imaging=imaging))
+            files.append(write_video(out / f"{prefix}.mp4", episode, arena, floor.image,
+                                     imaging=episode.belief.get("imaging")))
     return files
 
 
-def _write_testbed_files(out: Path, platform) -> list[Path]:
+def _write_testbed_files(out: Path, floor, calibration) -> list[Path]:
     """The painted floor (PNG + sidecar) and the sensor calibration (Fig. 3)."""
     from matplotlib.figure import Figure
     floor_png = out / "floor.png"
     if not floor_png.exists():
-        platform.testbed.floor.save(floor_png)
+        floor.save(floor_png)
     fig = Figure(figsize=(5, 3.6), layout="constrained")
-    platform.testbed.calibration.plot(fig.add_subplot())
+    calibration.plot(fig.add_subplot())
     fig.savefig(out / "calibration.png", dpi=150)
     return [floor_png, out / "calibration.png"]
 
@@ -339,22 +316,20 @@ def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
 
 def _run_one(args, plan: _Planned, out: Path | None):
     """Run one planned episode; figures and the trace into `out`."""
-    from .api import execute
+    from .api import run
     prog = _progress(plan.strategy) if not args.quiet else None
     try:
-        episode, strat, plats = execute(plan.scenario, plan.strategy, seed=args.seed, params=plan.params,
-                                        platform=plan.platform, agents=plan.agents,
-                                        platform_options=plan.options, progress=prog)
+        episode = run(plan.scenario, plan.strategy, seed=args.seed, params=plan.params, platform=plan.platform,
+                      agents=plan.agents, platform_options=plan.options, progress=prog, figures=out is not None)
     finally:
         if prog is not None:
             prog.close()
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
         episode.to_json(out / f"{plan.strategy}_episode.json")
-        if plan.scenario.world == "poisson" and plan.strategy in ("reciprocity", "gradient"):
-            arena = plan.scenario.arena
-            start = episode.summary["start"]
-            _write_figures(out, episode, strat, plats[0], arena.with_scenario(start=start), video=args.video)
+        if episode.belief:                        # the strategy's record holds something to draw
+            arena = plan.scenario.arena.with_scenario(start=episode.summary["start"])
+            _write_figures(out, episode, arena, video=args.video)
     return episode
 
 
@@ -460,10 +435,52 @@ def _common(p: argparse.ArgumentParser) -> None:
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is one line on stderr and exit status 2."""
+    """argparse, but a usage error is one line on stderr and exit status 2.
+
+    ``declare(parser)``, when given, adds the arguments when the command is chosen or its
+    help is asked for, not when the parser is built (the campaign layer's commands: their
+    flags are checked by the campaign layer, which ``run`` and ``--help`` never import).
+    """
+
+    def __init__(self, *args, declare=None, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._declare = declare
+
+    def _declared(self) -> None:
+        if self._declare is not None:
+            declare, self._declare = self._declare, None
+            declare(self)
+
+    def parse_known_args(self, args=None, namespace=None):
+        self._declared()
+        return super().parse_known_args(args, namespace)
+
+    def format_usage(self) -> str:
+        self._declared()
+        return super().format_usage()
+
+    def format_help(self) -> str:
+        self._declared()
+        return super().format_help()
 
     def error(self, message: str):
         self.exit(2, f"error: {message} (see `{self.prog} --help`)\n")
+
+
+#: The campaign layer's commands and their one-line help; their arguments are declared
+#: by :func:`reciprocity.campaign.cli.declare` when one of them is chosen.
+CAMPAIGN_COMMANDS = {
+    "campaign": "strategies × scenarios × seeds on Dask, results as Parquet (re-run to resume)",
+    "report": "tables and figures of a campaign's results",
+    "reproduce": "re-run a published table beside the paper's numbers",
+}
+
+
+def _declare_campaign_command(name: str):
+    def declare(parser: argparse.ArgumentParser) -> None:
+        from .campaign.cli import declare as campaign_declare
+        campaign_declare(name, parser)
+    return declare
 
 
 class _Version(argparse.Action):
@@ -524,8 +541,8 @@ def build_parser() -> argparse.ArgumentParser:
                       help="observer: the simulated micro-car (default) or a point")
     _common(demo)
     demo.set_defaults(func=cmd_demo)
-    from .campaign.cli import add_commands
-    add_commands(sub)
+    for name, text in CAMPAIGN_COMMANDS.items():
+        sub.add_parser(name, help=text, declare=_declare_campaign_command(name))
     return parser
 
 

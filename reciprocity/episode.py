@@ -93,11 +93,21 @@ class StepRecord:
 
 @dataclass
 class Episode:
-    """The result of one search: the contract's summary, the typed records and messages."""
+    """The result of one search: the contract's summary, the typed records and messages.
+
+    When the episode was run to draw figures (``rollout(..., figures=True)``), `belief`
+    holds what they draw of the strategy's belief at the end (its
+    :meth:`~reciprocity.strategies.base.Strategy.figure_record`: e.g. ``imaging``, ``eps``,
+    ``gradients``) and `truth` what they draw of the truth (the environment's
+    :meth:`~reciprocity.env.SearchEnv.figure_record`: e.g. ``field``, ``true_arena``,
+    ``floor``). Neither is written to JSON; the strategy never saw `truth`.
+    """
 
     summary: dict
     records: list = field(default_factory=list)
     messages: MessageLog = field(default_factory=MessageLog)
+    belief: dict = field(default_factory=dict)
+    truth: dict = field(default_factory=dict)
 
     @property
     def trace(self) -> list[dict]:

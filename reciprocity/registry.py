@@ -1,9 +1,12 @@
 """Name registries that import a module only when one of its names is asked for.
 
-The command line, campaigns and scripts look strategies and world kinds up by name. The
-registries know where each built-in one lives, so ``reciprocity run --arena paper``
-imports the reciprocity strategy and the Poisson world, not the particle filters and
-plume models of the other papers (which pull in scipy.stats and numba).
+The command line, campaigns and scripts look strategies and world kinds up by name. A
+registry maps each built-in name to an attribute of one package, and that package exports
+its attributes lazily, as every package here does (``lazy_loader.attach``, as in
+scikit-image): one mechanism says where a name lives and imports it on first use. So
+``reciprocity run --arena paper`` imports the reciprocity strategy and the Poisson world,
+not the particle filters and plume models of the other papers (which pull in scipy.stats
+and numba).
 """
 
 from __future__ import annotations
@@ -15,31 +18,33 @@ __all__ = ["LazyRegistry"]
 
 
 class LazyRegistry(MutableMapping):
-    """A mapping name -> object whose built-in entries are imported on first access.
+    """A mapping name -> object whose built-in entries are attributes of a package, looked
+    up (and so imported, by the package's lazy exports) on first access.
 
     Parameters
     ----------
+    package : str
+        The package that exports the built-in entries (lazily, with ``lazy_loader.attach``).
     builtin : dict
-        Name -> ``"package.module"`` (importing it registers the name, e.g. with a
-        decorator) or ``"package.module:attribute"``.
+        Name -> the attribute of `package` that holds the entry.
 
     Examples
     --------
-    >>> reg = LazyRegistry({"sqrt": "math:sqrt"})
-    >>> reg["sqrt"](9.0), list(reg)
-    (3.0, ['sqrt'])
+    >>> reg = LazyRegistry("math", {"root": "sqrt"})
+    >>> reg["root"](9.0), list(reg)
+    (3.0, ['root'])
     """
 
-    def __init__(self, builtin: dict[str, str]):
+    def __init__(self, package: str, builtin: dict[str, str]):
+        self._package = package
         self._where = dict(builtin)
         self._loaded: dict = {}
 
     def __getitem__(self, name):
         if name not in self._loaded and name in self._where:
-            module, _, attr = self._where[name].partition(":")
-            mod = import_module(module)
-            if name not in self._loaded and attr:
-                self._loaded[name] = getattr(mod, attr)
+            value = getattr(import_module(self._package), self._where[name])
+            # importing may have registered the name already (a class decorator): keep that
+            self._loaded.setdefault(name, value)
         return self._loaded[name]
 
     def __setitem__(self, name, value) -> None:

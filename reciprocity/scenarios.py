@@ -86,13 +86,8 @@ class WorldKind:
 
 
 #: World kinds by name; a built-in kind's module is imported on first use of its name.
-WORLD_KINDS: LazyRegistry = LazyRegistry({
-    "poisson": "reciprocity.kinds.poisson",
-    "lattice": "reciprocity.kinds.lattice",
-    "plume": "reciprocity.kinds.plume",
-    "filament": "reciprocity.kinds.filament",
-    "flow": "reciprocity.kinds.flow",
-})
+WORLD_KINDS: LazyRegistry = LazyRegistry("reciprocity.kinds", {
+    "poisson": "POISSON", "lattice": "LATTICE", "plume": "PLUME", "filament": "FILAMENT", "flow": "FLOW"})
 
 #: Built-in scenario files by name (filled by :func:`_scenario_files`).
 _FILES: dict[str, object] = {}

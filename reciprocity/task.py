@@ -169,6 +169,10 @@ class Report:
     notes : dict
         What the agent records about its own run, added to the summary (e.g.
         ``remesh_failures`` on an unknown map); a key of the summary's own is refused.
+    figures : dict
+        What the episode's figures draw of the agent's belief at the end (the strategy's
+        :meth:`~reciprocity.strategies.base.Strategy.figure_record`), when the agent was
+        asked to keep it; never judged.
     """
 
     strategy: str
@@ -185,3 +189,4 @@ class Report:
     estimates: np.ndarray | None = None
     estimates_sd: np.ndarray | None = None
     notes: dict = field(default_factory=dict)
+    figures: dict = field(default_factory=dict)

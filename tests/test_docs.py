@@ -190,6 +190,7 @@ def _help_texts() -> list[tuple[str, str]]:
     for prog, parser in (("reciprocity", build_parser()), ("hjplanner", hj_parser())):
         subs = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
         for name, sub in subs.choices.items():
+            sub.format_help()       # declares the arguments of a command declared on use (campaign)
             out += [(f"{prog} {name}", a.help) for a in sub._actions if a.help]
     return out
 

@@ -58,8 +58,37 @@ def test_listings_load_no_heavy_stack(command):
     assert json.loads(done.stdout.splitlines()[-1]) == []
 
 
+#: Run in a fresh interpreter with a command line after ``-c``: builds the ``reciprocity``
+#: parser, parses the command line (help or not), then prints whether the campaign layer
+#: got imported.
+PARSER_PROBE = """
+import contextlib, io, sys
+import reciprocity.cli
+with contextlib.redirect_stdout(io.StringIO()):
+    try:
+        reciprocity.cli.build_parser().parse_args(sys.argv[1:])
+    except SystemExit:
+        pass
+print("reciprocity.campaign" in sys.modules)
+"""
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["run", "--help"],
+                                  ["run", "--arena", "paper", "--strategy", "reciprocity"]])
+def test_the_parser_of_run_leaves_out_the_campaign_layer(argv):
+    # the campaign layer declares its own commands' flags, on use (issue 37)
+    done = subprocess.run([sys.executable, "-c", PARSER_PROBE, *argv], capture_output=True, text=True, check=True)
+    assert done.stdout.split()[-1] == "False"
+
+
+def test_the_campaign_commands_declare_their_flags_on_use():
+    done = subprocess.run([sys.executable, "-c", PARSER_PROBE, "reproduce", "--help"], capture_output=True,
+                          text=True, check=True)
+    assert done.stdout.split()[-1] == "True"
+
+
 @pytest.mark.parametrize("package", ["arenas", "hjplanner", "reciprocity", "reciprocity.fem",
-                                     "reciprocity.campaign"])
+                                     "reciprocity.campaign", "reciprocity.kinds"])
 def test_lazy_exports_resolve_and_are_listed(package):
     module = importlib.import_module(package)
     assert module.__all__ and set(module.__all__) <= set(dir(module))
@@ -67,3 +96,11 @@ def test_lazy_exports_resolve_and_are_listed(package):
         assert getattr(module, name) is not None, name
     with pytest.raises(AttributeError):
         module.no_such_name
+
+
+def test_the_registries_resolve_every_builtin_name_through_the_lazy_exports():
+    # one lazy mechanism (issue 37): a registry names an attribute its package exports lazily
+    from reciprocity.scenarios import WORLD_KINDS
+    from reciprocity.strategies import STRATEGIES
+    assert all(STRATEGIES[name].name == name for name in STRATEGIES)
+    assert all(WORLD_KINDS[name].name == name for name in WORLD_KINDS)

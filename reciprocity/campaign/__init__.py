@@ -10,8 +10,8 @@ trusted network only; elsewhere use ``tls://`` with certificates of your own CA
 (:mod:`reciprocity.campaign.cluster`).
 """
 
-# Imported on first use (PEP 562, via lazy_loader): the command line imports the
-# spec and cluster modules to declare its flags, not Dask, Parquet or DuckDB.
+# Imported on first use (PEP 562, via lazy_loader): the campaign commands import the
+# spec and cluster modules to declare their flags, not Dask, Parquet or DuckDB.
 import lazy_loader as _lazy
 
 __getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={

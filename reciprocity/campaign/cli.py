@@ -1,7 +1,8 @@
 """The ``campaign``, ``report`` and ``reproduce`` commands of the ``reciprocity`` CLI.
 
-``reciprocity.cli.build_parser`` calls :func:`add_commands`; every handler returns the
-exit code and raises :class:`reciprocity.errors.SearchError` on bad input (exit 2).
+``reciprocity.cli.build_parser`` names them and calls :func:`declare` for the one chosen
+(``run`` and ``--help`` never import this package); every handler returns the exit code
+and raises :class:`reciprocity.errors.SearchError` on bad input (exit 2).
 Numbers and addresses are checked when the command line is parsed, output folders and
 the whole spec before any episode runs.
 """
@@ -18,7 +19,7 @@ from ..errors import SearchError
 from .cluster import TLSFiles, check_address, max_workers
 from .spec import MAX_SEED, MAX_SEEDS
 
-__all__ = ["add_commands"]
+__all__ = ["declare"]
 
 
 def _whole(text: str, lo: int, hi: int) -> int:
@@ -176,16 +177,24 @@ def _print_protocols(name: str, out: Path, protocol: str | None, rows: str | Non
         print("\n" + text, end="")
 
 
-def add_commands(subparsers) -> None:
-    """Add ``campaign``, ``report`` and ``reproduce`` to the ``reciprocity`` parser.
+def declare(name: str, p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of command `name` on its parser.
+
+    ``reciprocity.cli.build_parser`` adds the three commands by name and calls this only
+    when one of them is chosen (or its help is asked for), so that ``run`` and ``--help``
+    never import the campaign layer.
 
     Parameters
     ----------
-    subparsers : argparse._SubParsersAction
-        From ``parser.add_subparsers()``.
+    name : str
+        ``"campaign"``, ``"report"`` or ``"reproduce"``.
+    p : argparse.ArgumentParser
+        The command's sub-parser.
     """
-    c = subparsers.add_parser("campaign", help="strategies × scenarios × seeds on Dask, "
-                              "results as Parquet (re-run to resume)")
+    {"campaign": _campaign, "report": _report, "reproduce": _reproduce}[name](p)
+
+
+def _campaign(c: argparse.ArgumentParser) -> None:
     c.add_argument("spec", metavar="SPEC.yaml", help="campaign spec (see reciprocity.campaign.spec)")
     c.add_argument("--out", required=True, metavar="DIR", help="results folder")
     c.add_argument("--seed", type=lambda t: _whole(t, 0, MAX_SEED), metavar="N",
@@ -193,12 +202,14 @@ def add_commands(subparsers) -> None:
     _where(c)
     c.set_defaults(func=cmd_campaign)
 
-    r = subparsers.add_parser("report", help="tables and figures of a campaign's results")
+
+def _report(r: argparse.ArgumentParser) -> None:
     r.add_argument("dir", metavar="DIR", help="campaign results folder")
     r.add_argument("--out", metavar="DIR", help="output folder (default DIR/report)")
     r.set_defaults(func=cmd_report)
 
-    p = subparsers.add_parser("reproduce", help="re-run a published table beside the paper's numbers")
+
+def _reproduce(p: argparse.ArgumentParser) -> None:
     p.add_argument("table", nargs="?", metavar="TABLE", help="table name (see --list)")
     p.add_argument("--list", action="store_true", help="list the reproducible tables")
     p.add_argument("--runs", type=lambda t: _whole(t, 1, MAX_SEEDS), metavar="N",

@@ -52,10 +52,13 @@ class Rollout:
         Receives the task, the percepts and the stop; declares the report.
     progress : callable, optional
         Called with each :class:`~reciprocity.episode.StepRecord`.
+    figures : bool
+        Record what the figures draw of the truth (:meth:`SearchEnv.figure_record`) in the
+        episode, and the agent's :attr:`Report.figures <reciprocity.task.Report.figures>`.
     """
 
-    def __init__(self, env: SearchEnv, agent: Agent, *, progress=None):
-        self.env, self.agent, self.progress = env, agent, progress
+    def __init__(self, env: SearchEnv, agent: Agent, *, progress=None, figures: bool = False):
+        self.env, self.agent, self.progress, self.figures = env, agent, progress, figures
         self.records: list[StepRecord] = []
         self.task: Task | None = None
         #: The percepts of the last round with their intents, ``[(Percept, Intent), ...]``.
@@ -103,10 +106,13 @@ class Rollout:
         if report is None or report.stop is None:
             self.agent.stop(StopReason.GAVE_UP, "the strategy proposed nothing more")
             report = self.agent.report()
-        return Episode(self.env.judge(report), self.records, report.messages)
+        summary = self.env.judge(report)
+        truth = self.env.figure_record() if self.figures else {}
+        return Episode(summary, self.records, report.messages, belief=dict(report.figures), truth=truth)
 
 
-def rollout(env: SearchEnv, agent: Agent, seed: int, *, progress=None, options: dict | None = None) -> Episode:
+def rollout(env: SearchEnv, agent: Agent, seed: int, *, progress=None, options: dict | None = None,
+            figures: bool = False) -> Episode:
     """Run one episode of `agent` in `env` from `seed`.
 
     The loop reads like the papers' algorithm boxes: reset the world and hand the agent
@@ -126,13 +132,16 @@ def rollout(env: SearchEnv, agent: Agent, seed: int, *, progress=None, options: 
         Called with each :class:`~reciprocity.episode.StepRecord`.
     options : dict, optional
         Passed to :meth:`SearchEnv.reset`.
+    figures : bool
+        Keep what the figures draw of the truth and of the agent's belief in the episode
+        (:attr:`Episode.truth`, :attr:`Episode.belief`).
 
     Returns
     -------
     Episode
         The summary (judged by the environment), the trace and the messages.
     """
-    run = Rollout(env, agent, progress=progress)
+    run = Rollout(env, agent, progress=progress, figures=figures)
     run.start(seed, options)
     while not agent.done and run.advance(agent.act()):
         pass

@@ -256,6 +256,12 @@ class SearchEnv:
             out["estimates_sd"] = [float(v) for v in report.estimates_sd]
         return out
 
+    def figure_record(self) -> dict:
+        """What the episode's figures draw of the truth, after the episode: the world's
+        (e.g. the true field and walls) and the first observer's platform's (e.g. the car's
+        painted floor); see :attr:`reciprocity.episode.Episode.truth`."""
+        return {**self._world.figure_record(), **self._platforms[0].figure_record()}
+
     @property
     def summary(self) -> dict | None:
         """The summary of the finished episode (None until :meth:`judge`)."""

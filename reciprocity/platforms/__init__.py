@@ -10,14 +10,15 @@ imported on first use: they pull in :mod:`hjplanner` and numba, which the other
 platforms do not need.
 """
 
-from importlib import import_module
+import lazy_loader as _lazy
 
 from .base import Platform
 from .lattice import CONTROLS, LatticePlatform
 from .point import PointPlatform, gradient_sample_points
 from .walker import WalkerPlatform
 
-#: Names of :mod:`reciprocity.platforms.car`, imported on first access.
+#: Names of :mod:`reciprocity.platforms.car`, imported on first access (lazy_loader, as
+#: the other packages).
 _CAR_NAMES = ("CAR_KEYS", "CarPlatform", "DrivingOptions", "PLANNERS", "check_car_options",
               "make_car_platform")
 
@@ -26,8 +27,4 @@ __all__ = [
     "gradient_sample_points", *_CAR_NAMES,
 ]
 
-
-def __getattr__(name: str):
-    if name in _CAR_NAMES:
-        return getattr(import_module(".car", __name__), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__, _, _ = _lazy.attach(__name__, submod_attrs={"car": list(_CAR_NAMES)})

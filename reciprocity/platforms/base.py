@@ -84,6 +84,11 @@ class Platform(ABC):
         """Platform-specific keys for the episode summary."""
         return {}
 
+    def figure_record(self) -> dict:
+        """What the episode's figures draw of this platform (beside the world's
+        :meth:`~reciprocity.worlds.base.World.figure_record`); empty by default."""
+        return {}
+
     @property
     def true_position(self) -> np.ndarray:
         """Where the observer really is (the episode's business, never a strategy's)."""

@@ -326,6 +326,11 @@ class CarPlatform(Platform):
             out["scanned_plans"] = int(self.scanned_plans)
         return out
 
+    def figure_record(self) -> dict:
+        """``floor``: the painted floor (:class:`arenas.Floor`); ``calibration``: the
+        sensor's calibration (its Fig. 3)."""
+        return dict(floor=self.testbed.floor, calibration=self.testbed.calibration)
+
     # -- bookkeeping -------------------------------------------------------------------
     @staticmethod
     def _new_log() -> dict:

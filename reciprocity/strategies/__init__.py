@@ -1,4 +1,11 @@
-"""Search strategies, selectable by name (:data:`STRATEGIES`)."""
+"""Search strategies, selectable by name (:data:`STRATEGIES`).
+
+The strategy classes are exported lazily (lazy_loader, as the other packages): a
+strategy's module is imported when its class or its name in :data:`STRATEGIES` is first
+asked for.
+"""
+
+import lazy_loader as _lazy
 
 from ..registry import LazyRegistry
 from .base import MAX_REJECTIONS, SearchContext, Status, Strategy
@@ -6,27 +13,27 @@ from .base import MAX_REJECTIONS, SearchContext, Status, Strategy
 #: Strategy classes by the name used on the command line; each says the world kinds it
 #: applies to (``cls.worlds``) and how many observers it directs (``cls.agents``). A
 #: built-in strategy's module is imported when its name is first looked up.
-STRATEGIES: LazyRegistry = LazyRegistry({
-    "reciprocity": "reciprocity.strategies.reciprocal:ReciprocityStrategy",
-    "gradient": "reciprocity.strategies.gradient:GradientStrategy",
-    "random-walk": "reciprocity.strategies.random_walk:RandomWalkStrategy",
-    "rbpf": "reciprocity.strategies.rbpf",
-    "rbpf-infotaxis": "reciprocity.strategies.rbpf",
-    "lattice-reciprocity": "reciprocity.strategies.lattice_reciprocity",
-    "infotaxis": "reciprocity.strategies.infotaxis",
-    "free-energy": "reciprocity.strategies.infotaxis",
-    "mapless-infotaxis": "reciprocity.strategies.infotaxis",
-    "entrotaxis": "reciprocity.strategies.infotaxis",
-    "space-aware-infotaxis": "reciprocity.strategies.infotaxis",
-    "voi": "reciprocity.strategies.infotaxis",
-    "lookahead": "reciprocity.strategies.lookahead",
-    "arena-infotaxis": "reciprocity.strategies.arena_infotaxis",
-    "plume-reciprocity": "reciprocity.strategies.plume_imaging",
-    "hmm": "reciprocity.strategies.hmm_search",
-    "surge-cast": "reciprocity.strategies.hmm_search",
-    "detection-infotaxis": "reciprocity.strategies.detection_infotaxis",
-    "reciprocity-wind": "reciprocity.strategies.wind_reciprocity",
-    "free-space-wind": "reciprocity.strategies.wind_reciprocity",
+STRATEGIES: LazyRegistry = LazyRegistry(__name__, {
+    "reciprocity": "ReciprocityStrategy",
+    "gradient": "GradientStrategy",
+    "random-walk": "RandomWalkStrategy",
+    "rbpf": "RBPFStrategy",
+    "rbpf-infotaxis": "RBPFInfotaxisStrategy",
+    "lattice-reciprocity": "LatticeReciprocityStrategy",
+    "infotaxis": "Infotaxis",
+    "free-energy": "FreeEnergyInfotaxis",
+    "mapless-infotaxis": "MaplessInfotaxis",
+    "entrotaxis": "Entrotaxis",
+    "space-aware-infotaxis": "SpaceAwareInfotaxis",
+    "voi": "VoIInfotaxis",
+    "lookahead": "Lookahead",
+    "arena-infotaxis": "ArenaInfotaxis",
+    "plume-reciprocity": "PlumeImaging",
+    "hmm": "HMMSearch",
+    "surge-cast": "SurgeCast",
+    "detection-infotaxis": "DetectionInfotaxis",
+    "reciprocity-wind": "WindReciprocity",
+    "free-space-wind": "FreeSpaceWind",
 })
 
 
@@ -36,17 +43,23 @@ def register(cls: type[Strategy]) -> type[Strategy]:
     return cls
 
 
-def __getattr__(name: str):
-    # the classes of the core strategies, imported on first use
-    lazy = {"GradientStrategy": "gradient", "three_point_gradient": "gradient",
-            "RandomWalkStrategy": "random-walk", "ReciprocityStrategy": "reciprocity"}
-    if name in lazy:
-        if name == "three_point_gradient":
-            from .gradient import three_point_gradient
-            return three_point_gradient
-        return STRATEGIES[lazy[name]]
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
+# Last: an eager import (lazy_loader's EAGER_IMPORT) imports the strategy modules, which
+# need `register` above.
+__getattr__, _, _ = _lazy.attach(__name__, submod_attrs={
+    "arena_infotaxis": ["ArenaInfotaxis"],
+    "detection_infotaxis": ["DetectionInfotaxis"],
+    "gradient": ["GradientStrategy", "three_point_gradient"],
+    "hmm_search": ["HMMSearch", "SurgeCast"],
+    "infotaxis": ["Entrotaxis", "FreeEnergyInfotaxis", "Infotaxis", "MaplessInfotaxis", "SpaceAwareInfotaxis",
+                  "VoIInfotaxis"],
+    "lattice_reciprocity": ["LatticeReciprocityStrategy"],
+    "lookahead": ["Lookahead"],
+    "plume_imaging": ["PlumeImaging"],
+    "random_walk": ["RandomWalkStrategy"],
+    "rbpf": ["RBPFInfotaxisStrategy", "RBPFStrategy"],
+    "reciprocal": ["ReciprocityStrategy"],
+    "wind_reciprocity": ["FreeSpaceWind", "WindReciprocity"],
+})
 
 __all__ = ["GradientStrategy", "MAX_REJECTIONS", "RandomWalkStrategy", "ReciprocityStrategy",
            "STRATEGIES", "SearchContext", "Status", "Strategy", "register", "three_point_gradient"]

@@ -28,13 +28,17 @@ class StrategyAgent:
         The strategy's parameters (with a class). The task's platform limits (the car's
         ``clearance``, the sensor's ``i_max``) fill those the strategy accepts and `params`
         leaves out.
+    figures : bool
+        Keep what the figures draw of the strategy's belief (its
+        :meth:`~reciprocity.strategies.base.Strategy.figure_record`) in the report.
     """
 
-    def __init__(self, factory, params: dict | None = None):
+    def __init__(self, factory, params: dict | None = None, *, figures: bool = False):
         if isinstance(factory, Strategy) and params:
             raise TypeError("give params with a strategy class, not with a strategy already built")
         self._factory = factory
         self._params = dict(params or {})
+        self._figures = bool(figures)
         self.strategy: Strategy | None = None
         self.messages = MessageLog()
 
@@ -95,7 +99,8 @@ class StrategyAgent:
                       messages=self.messages, agents=s.agents,
                       estimates=_array(getattr(s, "estimates", None)),
                       estimates_sd=_array(getattr(s, "estimates_sd", None)),
-                      notes=dict(getattr(s, "notes", None) or {}))
+                      notes=dict(getattr(s, "notes", None) or {}),
+                      figures=s.figure_record() if self._figures else {})
 
 
 def _array(value) -> np.ndarray | None:

@@ -166,3 +166,11 @@ class Strategy(ABC):
     def params(self) -> dict:
         """The strategy's parameters, for the episode summary."""
         return {}
+
+    def figure_record(self) -> dict:
+        """What the episode's figures draw of this strategy's belief at the end of a search
+        (:attr:`reciprocity.episode.Episode.belief`): a plain mapping whose keys
+        :func:`reciprocity.viz.episode.episode_figures` knows (e.g. ``imaging`` and ``eps``,
+        ``gradients``). Asked for once, after the search, and only when figures are drawn;
+        empty (the default): nothing to draw."""
+        return {}

@@ -163,6 +163,10 @@ class GradientStrategy(Strategy):
     def propose(self):
         return None if self.done else self._pending
 
+    def figure_record(self) -> dict:
+        """``gradients``: every gradient estimate as ``(point, gradient)``, in the order made."""
+        return dict(gradients=list(self.gradients))
+
     def observe(self, observations, intent, agent: int = 0) -> None:
         points = np.array([o.position for o in observations]).reshape(-1, 2)
         readings = np.array([o.value for o in observations], dtype=float)

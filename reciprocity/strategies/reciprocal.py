@@ -859,6 +859,22 @@ class ReciprocityStrategy(Strategy):
                                                   f"of a reachable point and seen from it: {within:.3f}; "
                                                   f"reachable part {self.notes['reachable_area']:.0f} cm²)")
 
+    def figure_record(self) -> dict:
+        """What the figures draw: ``imaging`` (the map now: the video's), ``steps`` (the map
+        of every reading as one source, whose prefixes give each step's map), ``eps``; with
+        one source ``within_reach`` (:meth:`within_reach`); with several, ``residual`` (the
+        map of one more source); on an unknown map ``mapping``: what rebuilds the believed
+        map and its imaging after each step (:func:`reciprocity.viz.mapping.map_replay`)."""
+        record = dict(imaging=self.imaging, eps=self.eps)
+        if self.book is None:
+            record.update(steps=self.imaging, within_reach=self.within_reach())
+        else:
+            record.update(steps=self.book.raw, residual=self.book.active)
+        if self.mapping is not None:
+            record["mapping"] = dict(known=self.mapping.grid.known, lidar=self.mapping.lidar,
+                                     cell=self.mapping.grid.cell, h=self.h, model_error=self._model_error)
+        return record
+
     def within_reach(self) -> np.ndarray:
         """Mask of the nodes within reach: the reachable part and the possible sources a
         reading there would see (within `reach` cm and above DETECT_SNR times the noise;

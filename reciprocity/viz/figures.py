@@ -262,3 +262,4 @@ def field_figure(field: Field, arena: Arena, *, title: str = "") -> Figure:
     fig.colorbar(im, ax=ax, label="signal")
     ax.set_title(title)
     return fig
+

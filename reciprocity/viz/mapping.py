@@ -26,8 +26,8 @@ def _scans(record: dict) -> list[Observation]:
     return [Observation(s["position"], min(s["ranges"]), kind="scan", data=s) for s in record.get("scans", ())]
 
 
-def map_replay(episode: Episode, strategy, k: int) -> tuple[MapKeeper, ImagingMap]:
-    """The believed map and the imaging map of `strategy` after step `k` of `episode`,
+def map_replay(episode: Episode, k: int) -> tuple[MapKeeper, ImagingMap]:
+    """The believed map and the imaging map of the episode's strategy after step `k`,
     rebuilt from the trace's scans and readings as the strategy built them (the same
     occupancy updates, the same believed arena, the solver on it), the readings imaged
     with the model error and shortfall of the map after step `k` (the strategy updates
@@ -36,22 +36,23 @@ def map_replay(episode: Episode, strategy, k: int) -> tuple[MapKeeper, ImagingMa
     Parameters
     ----------
     episode : Episode
-        A run of the reciprocity strategy with ``map: unknown`` (its trace holds the scans).
-    strategy : ReciprocityStrategy
-        The strategy at the end of the run (for its parameters and what it was told).
+        A run of the reciprocity strategy with ``map: unknown``, run with ``figures=True``:
+        its trace holds the scans, ``belief["mapping"]`` what the strategy was told (the
+        known walls, the lidar, the cell, the mesh size, the model error) and
+        ``belief["imaging"]`` its imaging map at the end (for its likelihood).
     k : int
         Step, 1-based.
     """
-    first = strategy.mapping
-    keeper = MapKeeper(first.grid.known, first.lidar, first.grid.cell)
+    told = episode.belief["mapping"]
+    keeper = MapKeeper(told["known"], told["lidar"], told["cell"])
     for record in episode.trace[:k]:
         keeper.update(_scans(record))
-    im = strategy.imaging
+    im = episode.belief["imaging"]
     points = np.vstack([np.asarray(r["points"]).reshape(-1, 2) for r in episode.trace[:k]])
     readings = np.concatenate([np.asarray(r["readings"], dtype=float) for r in episode.trace[:k]])
     product = im.combine == "product" and im.strength_range is None
-    error = keeper.model_error(getattr(strategy, "_model_error", 0.0)) if product else im.model_error
-    out = ImagingMap(cached_solver(keeper.arena, strategy.h), im.sigma, strength=im.strength, combine=im.combine,
+    error = keeper.model_error(told["model_error"]) if product else im.model_error
+    out = ImagingMap(cached_solver(keeper.arena, told["h"]), im.sigma, strength=im.strength, combine=im.combine,
                      strength_range=im.strength_range, offset_sd=im.offset_sd, model_error=error)
     out = keeper.imaging(out)
     for z, r in zip(points, readings):
@@ -59,8 +60,7 @@ def map_replay(episode: Episode, strategy, k: int) -> tuple[MapKeeper, ImagingMa
     return keeper, out
 
 
-def mapping_steps_figure(episode: Episode, strategy, true_arena: Arena, *, steps=None,
-                         ncols: int = 4) -> Figure:
+def mapping_steps_figure(episode: Episode, true_arena: Arena, *, steps=None, ncols: int = 4) -> Figure:
     """One panel per step of a search on an unknown map.
 
     Background: the imaging function ``P_M`` on the believed mesh after the step; grey
@@ -73,9 +73,7 @@ def mapping_steps_figure(episode: Episode, strategy, true_arena: Arena, *, steps
     Parameters
     ----------
     episode : Episode
-        The run (``map: unknown``: its trace holds the scans).
-    strategy : ReciprocityStrategy
-        The strategy at the end of the run.
+        The run (``map: unknown``, with ``figures=True``: see :func:`map_replay`).
     true_arena : Arena
         The true walls (the world's, for the figure only).
     steps : sequence of int, optional
@@ -95,7 +93,7 @@ def mapping_steps_figure(episode: Episode, strategy, true_arena: Arena, *, steps
     tpc = None
     for i, k in enumerate(steps):
         ax = fig.add_subplot(rows, cols, i + 1)
-        keeper, im = map_replay(episode, strategy, k)
+        keeper, im = map_replay(episode, k)
         grid = keeper.grid
         tpc = ax.tripcolor(im.solver.triangulation, im.values(), shading="gouraud", cmap="jet", vmin=0, vmax=1,
                            rasterized=True)

@@ -502,8 +502,8 @@ def write_video(path, episode: Episode, arena: Arena, floor_image: np.ndarray, *
     Examples
     --------
     >>> from reciprocity.viz.video import write_video
-    >>> write_video("run.mp4", episode, arena, floor.image,            # doctest: +SKIP
-    ...             imaging=strategy.imaging)
+    >>> write_video("run.mp4", episode, arena, episode.truth["floor"].image,   # doctest: +SKIP
+    ...             imaging=episode.belief.get("imaging"))
     """
     path = Path(path)
     if path.suffix.lower() != ".mp4":

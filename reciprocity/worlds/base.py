@@ -117,6 +117,11 @@ class World(ABC):
         lattice's shortest path to the source); the evaluator's, never a strategy's."""
         return {}
 
+    def figure_record(self) -> dict:
+        """What the episode's figures draw of the truth (:attr:`reciprocity.episode.Episode.truth`),
+        after the episode, never shown to a strategy; empty by default."""
+        return {}
+
 
 def source_set(kind: str, source, sources, strengths, default: float, max_sources: int | None,
                *, each: str = "strength") -> tuple[np.ndarray, np.ndarray, int]:

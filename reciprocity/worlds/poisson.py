@@ -225,6 +225,10 @@ class PoissonWorld(World):
     def contains(self, points) -> np.ndarray:
         return self.true_arena.contains(np.atleast_2d(np.asarray(points, dtype=float)))
 
+    def figure_record(self) -> dict:
+        """``field``: the true signal; ``true_arena``: the true walls."""
+        return dict(field=self.field, true_arena=self.true_arena)
+
     def floor(self, px_per_mm: float = 1.0):
         """The testbed floor painted from the true field (the car's truth): the signal as
         printed (with the `paint_gamma` mismatch) and the grey mapping the calibration

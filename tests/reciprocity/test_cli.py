@@ -33,6 +33,27 @@ def test_run_writes_summary_json_and_figures(tmp_path, capsys, pixels_near):
     assert out[-1].startswith("success: ") and ("success: yes" in out[-1]) == s["success"]
 
 
+def test_figures_are_drawn_from_the_episode_record(tmp_path):
+    from reciprocity.api import run
+    from reciprocity.viz.episode import episode_figures
+    kw = dict(seed=1, params={"h": 4.0, "max_steps": 3})
+    assert run("empty", "reciprocity", **kw).belief == {}          # kept only when asked for
+    episode = run("empty", "reciprocity", figures=True, **kw)
+    assert {"imaging", "steps", "eps", "within_reach"} <= set(episode.belief)
+    assert {"field", "true_arena"} <= set(episode.truth)
+    assert "trace" in json.loads(episode.to_json()) and "truth" not in json.loads(episode.to_json())
+    arena = arenas.load("empty").with_scenario(start=episode.summary["start"])
+    assert [name for name, _ in episode_figures(episode, arena)] == ["steps"]
+    gradient = run("empty", "gradient", figures=True, **{**kw, "params": {"h": 4.0}})
+    assert [name for name, _ in episode_figures(gradient, arena)] == ["path"]
+
+
+def test_a_strategy_that_records_nothing_gets_no_figures(tmp_path):
+    assert main(["run", "--arena", "empty", "--strategy", "random-walk", "--h", "4", "--quiet",
+                 "--set", "n_steps=2", "--out", str(tmp_path)]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["random-walk_episode.json"]
+
+
 def _summary(**over) -> dict:
     s = dict(world="poisson", success=False, converged=False, stop="step cap",
              stop_reason="step cap: max_steps = 30 measurements", error=0.5)

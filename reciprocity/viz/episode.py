@@ -1,0 +1,60 @@
+"""The figures of one episode, drawn from its record alone (``run(..., figures=True)``):
+what the strategy recorded of its belief (:attr:`Episode.belief <reciprocity.episode.Episode.belief>`)
+and the environment of the truth (:attr:`Episode.truth <reciprocity.episode.Episode.truth>`)."""
+
+from __future__ import annotations
+
+from arenas import Arena
+
+from ..episode import Episode
+from .figures import gradient_run_figure, imaging_steps_figure, sources_figure
+from .mapping import mapping_steps_figure
+
+__all__ = ["episode_figures"]
+
+
+def _finding_steps(trace) -> list[int]:
+    """The steps a search for several sources is drawn at: the first, each step that found
+    a source, the last (1-based)."""
+    counts = [len(r.get("estimates") or []) for r in trace]
+    return sorted({1, len(counts)} | {k + 1 for k in range(1, len(counts)) if counts[k] > counts[k - 1]}
+                  | ({1 + counts.index(1)} if 1 in counts else set()))
+
+
+def episode_figures(episode: Episode, arena: Arena):
+    """The figures of an episode run with ``figures=True``, drawn from its record alone.
+
+    What is drawn follows what the record holds, never the strategy's name: the residual
+    map of one more source (``belief["residual"]``: several sources); the imaging steps
+    (``belief["steps"]``, as Fig. 4) or else the run over the true signal (Fig. 5: the
+    painted floor ``truth["floor"]`` or the true ``truth["field"]``, with
+    ``belief["gradients"]``); the believed map step by step (``belief["mapping"]``: an
+    unknown map, against ``truth["true_arena"]``).
+
+    Parameters
+    ----------
+    episode : Episode
+        Its :attr:`~Episode.belief` and :attr:`~Episode.truth` (empty: nothing is drawn).
+    arena : Arena
+        For the walls (with the episode's start).
+
+    Yields
+    ------
+    name : str
+        ``"sources"``, ``"steps"``, ``"path"`` or ``"map_steps"``.
+    figure : Figure
+    """
+    belief, truth = episode.belief, episode.truth
+    if not belief:
+        return
+    if "residual" in belief:
+        yield "sources", sources_figure(episode, belief["residual"], arena)
+    if "steps" in belief:
+        steps = _finding_steps(episode.trace) if "residual" in belief else None
+        yield "steps", imaging_steps_figure(episode, belief["steps"], arena, eps=belief["eps"], steps=steps,
+                                            within_reach=belief.get("within_reach"))
+    else:
+        yield "path", gradient_run_figure(episode, truth.get("field"), arena, belief.get("gradients", ()),
+                                          floor=truth.get("floor"))
+    if "mapping" in belief:
+        yield "map_steps", mapping_steps_figure(episode, truth["true_arena"])
