@@ -144,7 +144,7 @@ def main(argv=None) -> list[dict]:
             break
         chunk = min(args.eval_every, args.timesteps - done_steps)
         model.learn(chunk, reset_num_timesteps=False, callback=report)
-        done_steps += chunk
+        done_steps = int(model.num_timesteps)          # whole rollouts: a little past the chunk
     return rows
 
 

@@ -99,6 +99,15 @@ def write_results(rows: list[dict], n_episodes: int, out: Path) -> None:
     plot_curve(rows, n_episodes, out / "learning_curve.png")
 
 
+def earlier_rows(path: Path, before: int) -> list[dict]:
+    """The rows of an earlier run's curve in `path` up to `before` training steps (a
+    continued run draws the whole curve)."""
+    if not path.is_file():
+        return []
+    with open(path, newline="") as f:
+        return [row for row in csv.DictReader(f) if float(row["timesteps"]) < before]
+
+
 def main(argv=None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--timesteps", type=int, default=200_000)
@@ -109,7 +118,10 @@ def main(argv=None) -> list[dict]:
     ap.add_argument("--out", type=Path, default=Path("ppo_poisson"))
     ap.add_argument("--threads", type=int, default=1, help="torch threads (default 1)")
     ap.add_argument("--report-every", type=int, default=5_000, help="print the steps trained this often")
+    ap.add_argument("--init", type=Path, help="go on training this saved model (its steps count toward --timesteps)")
     args = ap.parse_args(argv)
+    if args.init is not None and not args.init.is_file():
+        ap.error(f"--init must be a model saved by this example (ppo_poisson.zip); got {str(args.init)!r}")
     for key in ("timesteps", "eval_every", "eval_seeds", "envs", "threads", "report_every"):
         if getattr(args, key) < 1:
             ap.error(f"--{key.replace('_', '-')} must be at least 1; got {getattr(args, key)}")
@@ -131,9 +143,12 @@ def main(argv=None) -> list[dict]:
           f"in {rnd['steps']:.1f}", flush=True)
     venv = make_vec_env(make_env, n_envs=args.envs, seed=args.seed,
                         vec_env_cls=SubprocVecEnv if args.envs > 1 else None)
-    model = PPO("MultiInputPolicy", venv, seed=args.seed, device="cpu", verbose=0)    # SB3's defaults
-    rows = []
-    done_steps, clock = 0, time.perf_counter()
+    if args.init is None:
+        model = PPO("MultiInputPolicy", venv, seed=args.seed, device="cpu", verbose=0)    # SB3's defaults
+    else:
+        model = PPO.load(args.init, env=venv, device="cpu")
+    done_steps, clock = int(model.num_timesteps), time.perf_counter()
+    rows = earlier_rows(args.out / "learning_curve.csv", done_steps) if args.init is not None else []
     report = sb3_progress(args.timesteps, args.report_every)
     try:
         while True:
@@ -150,7 +165,7 @@ def main(argv=None) -> list[dict]:
                 break
             chunk = min(args.eval_every, args.timesteps - done_steps)
             model.learn(chunk, reset_num_timesteps=False, callback=report)
-            done_steps += chunk
+            done_steps = int(model.num_timesteps)      # whole rollouts: a little past the chunk
         model.save(args.out / "ppo_poisson")
     finally:
         venv.close()

@@ -3,6 +3,8 @@
 import importlib.util
 from pathlib import Path
 
+import pytest
+
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -94,12 +96,19 @@ def test_ppo_poisson_environment_and_evaluation(tmp_path):
     assert ref["success"] == 1.0 and ref["low"] < 1.0 and rnd["success"] <= ref["success"]
 
 
-def test_ppo_poisson_trains_when_stable_baselines3_is_installed(tmp_path):
-    import pytest
+@pytest.mark.slow
+def test_ppo_poisson_trains_and_goes_on_when_stable_baselines3_is_installed(tmp_path):
+    """Two rollouts of SB3's default 2048 steps, the second continuing the saved model;
+    the curve is labelled with the steps actually trained."""
     pytest.importorskip("stable_baselines3")
-    rows = load("ppo_poisson").main(["--timesteps", "256", "--eval-every", "256", "--eval-seeds", "2",
-                                     "--envs", "1", "--out", str(tmp_path)])
-    assert len(rows) == 2 and (tmp_path / "learning_curve.png").exists() and (tmp_path / "ppo_poisson.zip").exists()
+    mod = load("ppo_poisson")
+    rows = mod.main(["--timesteps", "256", "--eval-every", "256", "--eval-seeds", "2", "--envs", "1",
+                     "--out", str(tmp_path)])
+    assert [r["timesteps"] for r in rows] == [0, 2048] and (tmp_path / "ppo_poisson.zip").exists()
+    more = mod.main(["--timesteps", "4096", "--eval-every", "256", "--eval-seeds", "2", "--envs", "1",
+                     "--out", str(tmp_path), "--init", str(tmp_path / "ppo_poisson.zip")])
+    assert [int(float(r["timesteps"])) for r in more] == [0, 2048, 4096]
+    assert len((tmp_path / "learning_curve.csv").read_text().splitlines()) == 4
 
 
 def test_every_example_takes_an_output_folder():
