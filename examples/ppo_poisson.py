@@ -15,8 +15,9 @@ map as a 16 x 16 image and the belief's spread along its two axes
 mean, and a stop flag that declares the map's estimate). It must learn where to read and
 when to stop; the map itself is not learned.
 
-Every ``--eval-every`` steps the policy is evaluated (deterministic actions) on the same
-``--eval-seeds`` held-out episodes as two references on the same seeds: the reciprocity
+Every ``--eval-every`` steps the policy is evaluated on the same ``--eval-seeds`` held-out
+episodes, with its deterministic actions and with actions sampled from it (torch seeded
+by ``--seed``), beside two references on the same seeds: the reciprocity
 strategy itself (``StrategyPolicy("reciprocity")``) and random actions in the same action
 space. It prints the steps trained every ``--report-every`` steps and, after each
 evaluation, rewrites ``learning_curve.csv`` and ``learning_curve.png``, so a run stopped
@@ -75,7 +76,14 @@ def plot_curve(rows: list[dict], n_episodes: int, path: Path) -> None:
     rate = np.array([float(r["ppo_success"]) for r in rows])
     ax.fill_between(t, [float(r["ppo_low"]) for r in rows], [float(r["ppo_high"]) for r in rows],
                     color="tab:blue", alpha=0.2, lw=0)
-    ax.plot(t, rate, "o-", color="tab:blue", label="PPO (SB3 defaults)")
+    ax.plot(t, rate, "o-", color="tab:blue", label="PPO (SB3 defaults), deterministic actions")
+    have = [k for k, r in enumerate(rows) if str(r.get("sampled_success", "")) != ""]
+    if have:
+        ts = t[have]
+        ax.fill_between(ts, [float(rows[k]["sampled_low"]) for k in have],
+                        [float(rows[k]["sampled_high"]) for k in have], color="tab:orange", alpha=0.2, lw=0)
+        ax.plot(ts, [float(rows[k]["sampled_success"]) for k in have], "s-", color="tab:orange",
+                label="PPO, actions sampled from its policy")
     ref, rnd = float(rows[0]["strategy_success"]), float(rows[0]["random_success"])
     ax.axhline(ref, color="k", ls="--", label=f"reciprocity strategy ({ref:.0%})")
     ax.axhline(rnd, color="0.6", ls=":", label=f"random actions ({rnd:.0%})")
@@ -93,7 +101,7 @@ def plot_curve(rows: list[dict], n_episodes: int, path: Path) -> None:
 def write_results(rows: list[dict], n_episodes: int, out: Path) -> None:
     """``learning_curve.csv`` and ``learning_curve.png`` in `out`, from the evaluations so far."""
     with open(out / "learning_curve.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w = csv.DictWriter(f, fieldnames=list(rows[-1]), restval="")
         w.writeheader()
         w.writerows(rows)
     plot_curve(rows, n_episodes, out / "learning_curve.png")
@@ -153,14 +161,19 @@ def main(argv=None) -> list[dict]:
     try:
         while True:
             ppo = evaluate(lambda o: model.predict(o, deterministic=True)[0], seeds, desc="PPO")
+            torch.manual_seed(args.seed)                          # the sampled actions, reproducibly
+            sampled = evaluate(lambda o: model.predict(o, deterministic=False)[0], seeds, desc="PPO sampled")
             rows.append(dict(timesteps=done_steps, ppo_success=ppo["success"], ppo_low=ppo["low"],
-                             ppo_high=ppo["high"], ppo_steps=ppo["steps"], strategy_success=ref["success"],
-                             strategy_steps=ref["steps"], random_success=rnd["success"], random_steps=rnd["steps"],
+                             ppo_high=ppo["high"], ppo_steps=ppo["steps"], sampled_success=sampled["success"],
+                             sampled_low=sampled["low"], sampled_high=sampled["high"], sampled_steps=sampled["steps"],
+                             strategy_success=ref["success"], strategy_steps=ref["steps"],
+                             random_success=rnd["success"], random_steps=rnd["steps"],
                              wall_s=round(time.perf_counter() - clock, 1)))
             write_results(rows, len(seeds), args.out)            # as it goes: a stopped run keeps its curve
             print(f"{done_steps:>8} steps trained: PPO {ppo['success']:.0%} [{ppo['low']:.0%}, {ppo['high']:.0%}] "
-                  f"in {ppo['steps']:.1f} rounds, {rows[-1]['wall_s'] / 60:.1f} min; results in {args.out}/",
-                  flush=True)
+                  f"in {ppo['steps']:.1f} rounds, sampled {sampled['success']:.0%} [{sampled['low']:.0%}, "
+                  f"{sampled['high']:.0%}] in {sampled['steps']:.1f}, {rows[-1]['wall_s'] / 60:.1f} min; "
+                  f"results in {args.out}/", flush=True)
             if done_steps >= args.timesteps:
                 break
             chunk = min(args.eval_every, args.timesteps - done_steps)
