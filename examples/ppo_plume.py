@@ -28,9 +28,7 @@ installed.
 
 from __future__ import annotations
 
-import argparse
 import csv
-import sys
 import time
 from pathlib import Path
 
@@ -105,23 +103,14 @@ def write_results(rows: list[dict], n_episodes: int, out: Path) -> None:
 
 
 def main(argv=None) -> list[dict]:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--timesteps", type=int, default=200_000)
-    ap.add_argument("--eval-every", type=int, default=20_000)
-    ap.add_argument("--eval-seeds", type=int, default=100)
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--out", type=Path, default=Path("ppo_plume"))
-    ap.add_argument("--threads", type=int, default=1, help="torch threads (default 1)")
-    ap.add_argument("--report-every", type=int, default=5_000, help="print the steps trained this often")
-    args = ap.parse_args(argv)
-    try:
-        import torch
-        from stable_baselines3 import PPO
-    except ImportError:
-        sys.exit("error: this example needs stable-baselines3 (pip install stable-baselines3)")
-    torch.set_num_threads(args.threads)
+    from reciprocity.gym.training import HELD_OUT, checked, training_parser
+    ap = training_parser(__doc__.splitlines()[0], "ppo_plume")
+    args = checked(ap, ap.parse_args(argv))
+    from reciprocity.gym.training import require_sb3
+    require_sb3(args.threads)
+    from stable_baselines3 import PPO
     args.out.mkdir(parents=True, exist_ok=True)
-    seeds = list(range(10_000, 10_000 + args.eval_seeds))       # never trained on: training seeds are drawn
+    seeds = list(range(HELD_OUT, HELD_OUT + args.eval_seeds))   # never trained on: training seeds are drawn
     print(f"references on {len(seeds)} episodes: infotaxis, then a random walk", flush=True)
     info_steps, info_rate = evaluate(None, seeds, strategy="infotaxis", desc="infotaxis")
     rand_steps, rand_rate = evaluate(random_walk(args.seed), seeds, desc="random walk")

@@ -29,9 +29,7 @@ evaluation, and trains a few hundred steps when stable-baselines3 is installed.
 
 from __future__ import annotations
 
-import argparse
 import csv
-import sys
 import time
 from pathlib import Path
 
@@ -117,33 +115,20 @@ def earlier_rows(path: Path, before: int) -> list[dict]:
 
 
 def main(argv=None) -> list[dict]:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--timesteps", type=int, default=200_000)
-    ap.add_argument("--eval-every", type=int, default=20_000)
-    ap.add_argument("--eval-seeds", type=int, default=100)
+    from reciprocity.gym.training import HELD_OUT, checked, training_parser
+    ap = training_parser(__doc__.splitlines()[0], "ppo_poisson")
     ap.add_argument("--envs", type=int, default=2, help="training environments, one process each")
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--out", type=Path, default=Path("ppo_poisson"))
-    ap.add_argument("--threads", type=int, default=1, help="torch threads (default 1)")
-    ap.add_argument("--report-every", type=int, default=5_000, help="print the steps trained this often")
     ap.add_argument("--init", type=Path, help="go on training this saved model (its steps count toward --timesteps)")
-    args = ap.parse_args(argv)
+    args = checked(ap, ap.parse_args(argv))
     if args.init is not None and not args.init.is_file():
         ap.error(f"--init must be a model saved by this example (ppo_poisson.zip); got {str(args.init)!r}")
-    for key in ("timesteps", "eval_every", "eval_seeds", "envs", "threads", "report_every"):
-        if getattr(args, key) < 1:
-            ap.error(f"--{key.replace('_', '-')} must be at least 1; got {getattr(args, key)}")
-    try:
-        import torch
-        from stable_baselines3 import PPO
-        from stable_baselines3.common.env_util import make_vec_env
-        from stable_baselines3.common.vec_env import SubprocVecEnv
-    except ImportError:
-        sys.exit("error: this example needs stable-baselines3 (pip install stable-baselines3)")
-    from reciprocity.gym.training import sb3_progress
-    torch.set_num_threads(args.threads)
+    from reciprocity.gym.training import require_sb3, sb3_progress
+    torch = require_sb3(args.threads)
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.vec_env import SubprocVecEnv
     args.out.mkdir(parents=True, exist_ok=True)
-    seeds = list(range(10_000, 10_000 + args.eval_seeds))       # never trained on: training seeds are drawn
+    seeds = list(range(HELD_OUT, HELD_OUT + args.eval_seeds))   # never trained on: training seeds are drawn
     print(f"references on {len(seeds)} episodes: the reciprocity strategy, then random actions", flush=True)
     ref = evaluate(None, seeds, strategy="reciprocity", desc="reciprocity")
     rnd = evaluate(random_actions(args.seed), seeds, desc="random")

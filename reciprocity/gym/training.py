@@ -4,14 +4,19 @@ a built-in strategy, and a progress line for stable-baselines3 (imported only wh
 
 from __future__ import annotations
 
+import argparse
 import sys
 import time
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Callable, Iterable
 
 import numpy as np
 
-__all__ = ["Evaluation", "evaluate", "sb3_progress"]
+__all__ = ["Evaluation", "evaluate", "sb3_progress", "training_parser", "checked", "require_sb3", "HELD_OUT"]
+
+#: First seed of the held-out evaluation episodes (training episodes draw their seeds).
+HELD_OUT = 10_000
 
 
 @dataclass(frozen=True)
@@ -104,3 +109,39 @@ def sb3_progress(total: int, every: int):
                 print(f"  {self.num_timesteps:>8} / {total} steps trained ({rate:.0f} steps/s)", flush=True)
             return True
     return Progress()
+
+
+def training_parser(description: str, out: str, *, eval_every: int = 20_000) -> argparse.ArgumentParser:
+    """The command line the training examples share: ``--timesteps``, ``--eval-every``,
+    ``--eval-seeds``, ``--seed``, ``--out``, ``--threads`` (torch's, default 1) and
+    ``--report-every``; :func:`checked` refuses values below 1."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--timesteps", type=int, default=200_000)
+    ap.add_argument("--eval-every", type=int, default=eval_every)
+    ap.add_argument("--eval-seeds", type=int, default=100)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--out", type=Path, default=Path(out))
+    ap.add_argument("--threads", type=int, default=1, help="torch threads (default 1)")
+    ap.add_argument("--report-every", type=int, default=5_000, help="print the steps trained this often")
+    return ap
+
+
+def checked(ap: argparse.ArgumentParser, args: argparse.Namespace) -> argparse.Namespace:
+    """`args` with every count of :func:`training_parser` (and ``envs``, if any) at least 1;
+    otherwise the parser's error (exit 2, one line)."""
+    for key in ("timesteps", "eval_every", "eval_seeds", "threads", "report_every", "envs"):
+        if getattr(args, key, 1) < 1:
+            ap.error(f"--{key.replace('_', '-')} must be at least 1; got {getattr(args, key)}")
+    return args
+
+
+def require_sb3(threads: int):
+    """Import PyTorch and stable-baselines3, or exit with one line saying what to install;
+    torch is held to `threads` threads. Returns the torch module."""
+    try:
+        import stable_baselines3  # noqa: F401
+        import torch
+    except ImportError:
+        sys.exit("error: this example needs stable-baselines3 (pip install stable-baselines3)")
+    torch.set_num_threads(threads)
+    return torch

@@ -26,7 +26,6 @@ from dataclasses import fields
 
 import numpy as np
 
-import arenas
 from arenas import Arena, ArenaError
 
 from ..errors import ReciprocityError, SearchError
@@ -36,6 +35,7 @@ from ..models.flow import FlowParams, segments_tuple
 from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import Bound, point
 from ..worlds.flow import TRUTH_H, FlowMismatch, FlowWorld
+from .arena import check_start, default_start, scenario_arena
 
 __all__ = ["FLOW", "FLOW_KEYS", "params_of"]
 
@@ -58,16 +58,8 @@ MAX_TRUTH_TRIANGLES = 600_000
 
 
 def _arena(params: dict) -> Arena:
-    a = params.get("arena")
     try:
-        if isinstance(a, Arena):
-            arena = a
-        elif isinstance(a, dict):
-            arena = arenas.from_dict(a, where="scenario arena")
-        elif a is None:
-            raise SearchError("a flow scenario needs an arena: a built-in name, a file or a mapping")
-        else:
-            arena = arenas.load(a)
+        arena = scenario_arena(params.get("arena"), "flow")
         source = params.get("source")
         if source is not None:
             source = point(source, "source")
@@ -145,22 +137,6 @@ def _build(params: dict, rng: np.random.Generator) -> FlowWorld:
     return FlowWorld(params["arena"], params_of(params), mismatch=params["mismatch"], h=params["truth_h"])
 
 
-def _default_start(world: FlowWorld, rng: np.random.Generator) -> np.ndarray:
-    if world.arena.start is not None:
-        return world.arena.start.copy()
-    p = world.arena.random_free_points(1, rng, clearance=5.0)[0]
-    return np.array([p[0], p[1], rng.uniform(0, 2 * np.pi)])
-
-
-def _check_start(params: dict, starts: np.ndarray) -> None:
-    arena = params["arena"]
-    inside = arena.contains(starts[:, :2])
-    if not np.all(inside):
-        s = starts[int(np.argmin(inside))]
-        raise SearchError(f"start ({s[0]:g}, {s[1]:g}) cm is outside the free region of arena {arena.name!r} "
-                          "(outside the boundary or inside an obstacle)")
-
-
 def _point(world: FlowWorld, scenario, options: dict):
     from ..platforms.point import PointPlatform
     from ..spaces import mesh_space
@@ -173,4 +149,4 @@ def _point(world: FlowWorld, scenario, options: dict):
     return PointPlatform(mesh_space(world.arena.without_scenario(), route_h), dwell=dwell)
 
 
-FLOW = register_world(WorldKind("flow", _check, _build, {"point": _point}, _default_start, _check_start))
+FLOW = register_world(WorldKind("flow", _check, _build, {"point": _point}, default_start, check_start))

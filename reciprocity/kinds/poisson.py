@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-import arenas
 from arenas import Arena, ArenaError
 
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import number, point
 from ..worlds.poisson import Mismatch, PoissonWorld, TRUTH_H, shifted_walls
+from .arena import check_start, default_start, scenario_arena
 from .sensing import believed_arena, check_lidar, check_map
 from .sources import source_list, source_strengths
 
@@ -29,16 +29,8 @@ MAX_TRUTH_TRIANGLES = 1_000_000
 def _check(params: dict) -> dict:
     check_keys(params, POISSON_KEYS, "poisson world parameter")
     out = dict(params)
-    a = params.get("arena")
     try:
-        if isinstance(a, Arena):
-            arena = a
-        elif isinstance(a, dict):
-            arena = arenas.from_dict(a, where="scenario arena")
-        elif a is None:
-            raise SearchError("a poisson scenario needs an arena: a built-in name, a file or a mapping")
-        else:
-            arena = arenas.load(a)
+        arena = scenario_arena(params.get("arena"), "poisson")
         sources = source_list(params, point)
         source = params.get("source") if sources is None else sources[0]
         if source is not None:
@@ -95,28 +87,12 @@ def _several(params: dict, sources: list | None, arena: Arena) -> dict:
     return out
 
 
-def _check_start(params: dict, starts: np.ndarray) -> None:
-    arena = params["arena"]
-    inside = arena.contains(starts[:, :2])
-    if not np.all(inside):
-        s = starts[int(np.argmin(inside))]
-        raise SearchError(f"start ({s[0]:g}, {s[1]:g}) cm is outside the free region of arena {arena.name!r} "
-                          "(outside the boundary or inside an obstacle)")
-
-
 def _build(params: dict, rng: np.random.Generator) -> PoissonWorld:
     return PoissonWorld(params["arena"], noise=params["noise"], h=params["truth_h"],
                         mismatch=params["mismatch"], sources=params.get("sources"),
                         strengths=params.get("strengths"), max_sources=params.get("max_sources"),
                         believed=believed_arena(params["arena"], params.get("map", "known")),
                         lidar=params.get("lidar"))
-
-
-def _default_start(world: PoissonWorld, rng: np.random.Generator) -> np.ndarray:
-    if world.arena.start is not None:
-        return world.arena.start.copy()
-    p = world.arena.random_free_points(1, rng, clearance=5.0)[0]
-    return np.array([p[0], p[1], rng.uniform(0, 2 * np.pi)])
 
 
 def _point(world: PoissonWorld, scenario, options: dict):
@@ -138,4 +114,4 @@ def _car(world: PoissonWorld, scenario, options: dict):
 
 
 POISSON = register_world(WorldKind("poisson", _check, _build, {"point": _point, "car": _car},
-                                   _default_start, _check_start))
+                                   default_start, check_start))
