@@ -133,3 +133,11 @@ def test_world_figures(tmp_path):
     paths = load("world_figures").main(["--out", str(tmp_path), "--quick"])
     assert [p.name for p in paths] == list(load("world_figures").FIGURES)
     assert all(p.stat().st_size > 10_000 for p in paths)
+
+
+def test_wind_search_figure(tmp_path, pixels_near):
+    s = load("wind_search_figure").main(["--out", str(tmp_path), "--h", "3", "--truth-h", "2", "--max-steps", "6"])
+    assert s["n_measurements"] == 6
+    png = tmp_path / "wind_search_steps.png"
+    assert pixels_near(png, (255, 0, 0), 60) > 20        # the true source's red star
+    assert pixels_near(png, (255, 0, 255), 60) > 10      # the magenta estimate

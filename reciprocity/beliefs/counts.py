@@ -55,16 +55,28 @@ class CountPosterior(Belief):
         self.background = float(background)
         self.loglik = np.zeros((len(self.nodes), len(self.rates)))
         self.n = 0
+        #: every reading conditioned on, in order: (rate, count, dwell); :meth:`first` replays them
+        self.readings: list[tuple[np.ndarray, float, float]] = []
         self._cache: dict = {}
 
     def add(self, rate: np.ndarray, count: float, dwell: float) -> None:
         """Condition on `count` hits over `dwell` s, with `rate` (n,) the mean hits per
         second per unit release rate at the reading from a source at each candidate."""
-        mu = (np.maximum(rate, 0.0)[:, None] * self.rates[None, :] + self.background) * float(dwell)
+        rate = np.maximum(rate, 0.0)
+        mu = (rate[:, None] * self.rates[None, :] + self.background) * float(dwell)
         self.loglik += float(count) * np.log(mu) - mu
         self.loglik -= self.loglik.max()
         self.n += 1
+        self.readings.append((rate, float(count), float(dwell)))
         self._cache.clear()
+
+    def first(self, k: int) -> "CountPosterior":
+        """The posterior after the first `k` readings alone (for figures of each step)."""
+        out = CountPosterior(self.nodes, self.areas, (self.rates[0], self.rates[-1]),
+                             background=self.background, cells=len(self.rates))
+        for rate, count, dwell in self.readings[:k]:
+            out.add(rate, count, dwell)
+        return out
 
     def update(self, obs) -> None:
         raise NotImplementedError("a CountPosterior needs each reading's rates: use add(rate, count, dwell)")

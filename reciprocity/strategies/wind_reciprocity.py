@@ -197,6 +197,12 @@ class WindReciprocity(Strategy):
         if not self._reachable.any():
             self.stop(StopReason.UNREACHABLE, "no observation point is reachable")
 
+    def figure_record(self) -> dict:
+        """``posterior``: the belief over (node, release rate), whose :meth:`~CountPosterior.first`
+        gives each step's; ``triangulation``: its nodes' mesh; ``credible_radius``."""
+        return dict(posterior=self.belief, triangulation=self.space.triangulation,
+                    credible_radius=self.credible_radius)
+
     # -- protocol ------------------------------------------------------------------------
     def propose(self) -> Measure | None:
         return None if self.done else Measure(self._next.copy())

@@ -7,7 +7,7 @@ from __future__ import annotations
 from arenas import Arena
 
 from ..episode import Episode
-from .figures import gradient_run_figure, imaging_steps_figure, sources_figure
+from .figures import count_steps_figure, gradient_run_figure, imaging_steps_figure, sources_figure
 from .mapping import mapping_steps_figure
 
 __all__ = ["episode_figures"]
@@ -26,8 +26,9 @@ def episode_figures(episode: Episode, arena: Arena):
 
     What is drawn follows what the record holds, never the strategy's name: the residual
     map of one more source (``belief["residual"]``: several sources); the imaging steps
-    (``belief["steps"]``, as Fig. 4) or else the run over the true signal (Fig. 5: the
-    painted floor ``truth["floor"]`` or the true ``truth["field"]``, with
+    (``belief["steps"]``, as Fig. 4), the posterior on hit counts step by step
+    (``belief["posterior"]``, over the true ``truth["wind"]``) or else the run over the
+    true signal (Fig. 5: the painted floor ``truth["floor"]`` or the true ``truth["field"]``, with
     ``belief["gradients"]``); the believed map step by step (``belief["mapping"]``: an
     unknown map, against ``truth["true_arena"]``).
 
@@ -53,6 +54,9 @@ def episode_figures(episode: Episode, arena: Arena):
         steps = _finding_steps(episode.trace) if "residual" in belief else None
         yield "steps", imaging_steps_figure(episode, belief["steps"], arena, eps=belief["eps"], steps=steps,
                                             within_reach=belief.get("within_reach"))
+    elif "posterior" in belief:
+        yield "steps", count_steps_figure(episode, belief["posterior"], belief["triangulation"], arena,
+                                          wind=truth.get("wind"))
     else:
         yield "path", gradient_run_figure(episode, truth.get("field"), arena, belief.get("gradients", ()),
                                           floor=truth.get("floor"))

@@ -14,7 +14,8 @@ from ..episode import Episode
 from ..fem.green import Field
 from ..imaging import ImagingMap
 
-__all__ = ["draw_arena", "imaging_steps_figure", "gradient_run_figure", "field_figure", "sources_figure"]
+__all__ = ["draw_arena", "imaging_steps_figure", "count_steps_figure", "doubling_steps", "gradient_run_figure",
+           "field_figure", "sources_figure"]
 
 
 def draw_arena(ax, arena: Arena, *, obstacle_color: str = "0.25", wall_color: str = "k") -> None:
@@ -141,6 +142,109 @@ def imaging_steps_figure(episode: Episode, imaging: ImagingMap, arena: Arena, *,
     if len(_replans(episode.trace)):
         handles.append(Line2D([], [], marker="o", ls="", mfc="none", mec="tab:blue", ms=4,
                               label="re-plans (car)"))
+    fig.legend(handles=handles, loc="outside lower center", ncols=4, fontsize=8, facecolor="0.85")
+    return fig
+
+
+def doubling_steps(n: int) -> list[int]:
+    """Steps 1, 2, 4, 8, ... and the last, `n` (1-based)."""
+    return sorted({2 ** i for i in range(int(np.log2(max(n, 1))) + 1)} | {n})
+
+
+def _streamlines(ax, wind, arena: Arena) -> None:
+    """The wind's streamlines, faint, over the arena's bounding box (NaN in the walls)."""
+    (x0, x1), (y0, y1) = arena.bounds
+    x, y = np.linspace(x0, x1, 120), np.linspace(y0, y1, 120)
+    xx, yy = np.meshgrid(x, y)
+    u = np.asarray(wind(np.column_stack([xx.ravel(), yy.ravel()]))).reshape(len(y), len(x), 2)
+    lines = ax.streamplot(x, y, np.ma.masked_invalid(u[..., 0]), np.ma.masked_invalid(u[..., 1]), color="0.5",
+                          density=1.0, linewidth=0.6, arrowsize=0.7, zorder=2)
+    lines.lines.set_alpha(0.6)
+    lines.arrows.set_alpha(0.6)
+
+
+def count_steps_figure(episode: Episode, posterior, triangulation: Triangulation, arena: Arena, *,
+                       wind=None, steps=None, ncols: int = 4, floor: float = 1e-3, zoom_below: float = 4.0,
+                       zoom: float = 20.0) -> Figure:
+    """One panel per step of a search on hit counts (``reciprocity-wind``): the posterior
+    over the source after the step's readings.
+
+    Background: the posterior density over the source, relative to its peak, on a log
+    scale down to `floor`; faint white: the wind's streamlines; dots: the readings so far
+    (white: hits, area growing with the count; grey: none), the newest ringed in black;
+    thin blue line: the path; magenta diamond: the estimate; red star: the true source.
+    A panel whose posterior is narrower than `zoom_below` (standard deviation, cm) shows
+    only `zoom` cm either side of the estimate.
+
+    Parameters
+    ----------
+    episode : Episode
+        The run (its trace gives the readings and the path).
+    posterior : CountPosterior
+        The strategy's belief at the end (:meth:`~reciprocity.beliefs.counts.CountPosterior.first`
+        gives each step's).
+    triangulation : Triangulation
+        The mesh of the posterior's nodes.
+    arena : Arena
+        For the walls.
+    wind : callable, optional
+        The wind at points (n, 2) -> (n, 2), cm/s: its streamlines are drawn.
+    steps : sequence of int, optional
+        Steps to draw (1-based); default :func:`doubling_steps`.
+    """
+    from matplotlib.colors import LogNorm
+    n = posterior.n
+    steps = [k for k in (steps or doubling_steps(n)) if 1 <= k <= n]
+    rows, cols = int(np.ceil(len(steps) / ncols)), min(ncols, len(steps))
+    fig = Figure(figsize=(3.6 * cols, 3.7 * rows + 0.6), layout="constrained")
+    src = np.asarray(episode.summary["source"], dtype=float)
+    points = np.vstack([r["points"] for r in episode.trace])
+    counts = np.concatenate([r["readings"] for r in episode.trace])
+    norm = LogNorm(floor, 1.0)
+    for i, k in enumerate(steps):
+        ax = fig.add_subplot(rows, cols, i + 1)
+        sub = posterior.first(k)
+        density = sub.weights() / sub.areas
+        tpc = ax.tripcolor(triangulation, np.clip(density / density.max(), floor, 1.0), shading="gouraud",
+                           cmap="viridis", norm=norm, rasterized=True)
+        draw_arena(ax, arena)
+        if wind is not None:
+            _streamlines(ax, wind, arena)
+        path = _route(episode.trace[:k])
+        ax.plot(path[:, 0], path[:, 1], "-", color="tab:blue", lw=0.8, alpha=0.8, zorder=4)
+        hit = counts[:k] > 0
+        ax.scatter(points[:k][hit, 0], points[:k][hit, 1], s=12 + 6 * np.sqrt(counts[:k][hit]), c="w",
+                   edgecolors="k", linewidths=0.6, zorder=5)
+        ax.scatter(points[:k][~hit, 0], points[:k][~hit, 1], s=10, c="0.55", edgecolors="k", linewidths=0.5,
+                   zorder=5)
+        ax.plot(*points[k - 1], "o", mfc="none", mec="k", ms=9, mew=1.4, zorder=6)
+        est = sub.estimate()
+        ax.plot(*est, "D", color="magenta", mec="k", ms=7, zorder=7)
+        ax.plot(*src, "*", color=(1.0, 0.0, 0.0), mec="k", ms=13, zorder=8)
+        w = sub.weights()
+        spread = np.sqrt(w @ np.sum((sub.nodes - w @ sub.nodes) ** 2, axis=1))
+        zoomed = spread < zoom_below
+        if zoomed:
+            ax.set_xlim(est[0] - zoom, est[0] + zoom)
+            ax.set_ylim(est[1] - zoom, est[1] + zoom)
+        ax.set_title(f"reading {k}: {counts[k - 1]:.0f} hits, est. ({est[0]:.0f}, {est[1]:.0f})"
+                     + (f"\nzoom: posterior sd {spread:.1f} cm" if zoomed else ""), fontsize=9)
+        ax.set_xlabel("x (cm)", fontsize=8)
+        ax.set_ylabel("y (cm)", fontsize=8)
+    fig.colorbar(tpc, ax=fig.axes, shrink=0.8, label="posterior density / its peak")
+    s = episode.summary
+    fig.suptitle(f"reciprocity in wind: the posterior after readings {', '.join(map(str, steps))} "
+                 f"of {n}; error {s['error']:.1f} cm, {s['stop_reason'].split(':')[0]}", fontsize=10)
+    handles = [
+        Line2D([], [], marker="*", ls="", color=(1.0, 0.0, 0.0), mec="k", ms=12, label="true source"),
+        Line2D([], [], marker="D", ls="", color="magenta", mec="k", ms=7, label="estimate"),
+        Line2D([], [], marker="o", ls="", color="w", mec="k", ms=6, label="reading with hits (size: count)"),
+        Line2D([], [], marker="o", ls="", color="0.55", mec="k", ms=4, label="reading without hits"),
+        Line2D([], [], marker="o", ls="", mfc="none", mec="k", ms=9, mew=1.4, label="newest reading"),
+        Line2D([], [], color="tab:blue", lw=0.8, label="path"),
+    ]
+    if wind is not None:
+        handles.append(Line2D([], [], color="0.6", lw=0.8, label="wind streamlines (true)"))
     fig.legend(handles=handles, loc="outside lower center", ncols=4, fontsize=8, facecolor="0.85")
     return fig
 

@@ -124,6 +124,12 @@ class FlowWorld(World):
             self._field = Field(c.solver, self.truth.strength * c.dofs, "mean concentration")
         return self._field
 
+    def figure_record(self) -> dict:
+        """``wind``: the true wind (a :class:`~reciprocity.fem.WindField`); ``field``: the
+        true mean concentration; ``true_arena``: the walls."""
+        wind = truth_solver(self.arena.without_scenario(), self.truth, self.h).wind
+        return dict(wind=wind, field=self.field, true_arena=self.true_arena)
+
     def mean_count(self, points, dwell: float) -> np.ndarray:
         """Mean hits over `dwell` s at `points` (n, 2) cm: ``k q c Δt`` (stabilised P1
         fields dip slightly below zero far upwind: read as zero)."""

@@ -146,3 +146,17 @@ def test_the_task_and_the_actions_do_not_depend_on_the_true_source():
         paths.append(path)
     assert tasks[0]["source"] is None and tasks[0] == tasks[1]
     assert paths[0] == paths[1] and len({tuple(p) for p in paths[0]}) == len(readings)
+
+
+def test_the_figures_replay_the_posterior_from_the_episode_record():
+    """figures=True keeps the count posterior (each step replayed by ``first``) and the true
+    wind; ``episode_figures`` draws the steps from them alone."""
+    from reciprocity.viz.episode import episode_figures
+    episode = run(_scenario(max_steps=5), "reciprocity-wind", seed=SEED, params={"h": MODEL_H}, figures=True)
+    post = episode.belief["posterior"]
+    assert post.n == episode.summary["n_measurements"] == len(post.readings)
+    assert np.allclose(post.first(post.n).weights(), post.weights())
+    assert np.allclose(post.first(0).weights(), post.areas / post.areas.sum())    # the prior: uniform in area
+    assert np.all(np.isfinite(episode.truth["wind"](np.array([[10.0, 20.0]]))))
+    arena = _scenario().arena.with_scenario(start=episode.summary["start"])
+    assert [name for name, _ in episode_figures(episode, arena)] == ["steps"]
