@@ -90,7 +90,7 @@ def plot_curve(rows: list[dict], n_episodes: int, path: Path) -> None:
     ax.set_ylabel("success rate")
     ax.set_title(f"Poisson-v0 (paper arena, new source and start each episode), {n_episodes} test episodes",
                  fontsize=9)
-    ax.legend(loc="center right")
+    ax.legend(loc="lower left", bbox_to_anchor=(0.01, 0.6), fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=150)
     plt.close(fig)
