@@ -34,9 +34,13 @@ def same_summary(a: dict, b: dict) -> list:
     return sorted(k for k in set(a) | set(b) if k != "wall_time_s" and a.get(k) != b.get(k))
 
 
+#: World keys that keep a test's truth cheap (the flow truth's 0.5 cm mesh takes seconds to build).
+CHEAP = {"reciprocity/Flow-v0": {"truth_h": 2.0}}
+
+
 @pytest.mark.parametrize("env_id", sorted(rg.IDS))
 def test_check_env_passes(env_id):
-    env = gymnasium.make(env_id)
+    env = gymnasium.make(env_id, **CHEAP.get(env_id, {}))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")          # unbounded readings and cm-sized boxes are warned about
         check_env(env.unwrapped)
@@ -47,7 +51,7 @@ def test_check_env_passes(env_id):
     ("reciprocity/Plume-v0", "otto-2d", "infotaxis", {}, {}),
     ("reciprocity/Plume-v0", "song-100", "infotaxis", {}, {"max_turn": 30}),
     ("reciprocity/Lattice-v0", "ristic-lattice", "rbpf", RBPF, {}),
-    ("reciprocity/Flow-v0", "paper-wind", "reciprocity-wind", {"h": 2.0}, {}),
+    ("reciprocity/Flow-v0", "paper-wind", "reciprocity-wind", {"h": 2.0}, {"truth_h": 2.0}),
 ])
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_strategy_policy_runs_the_cli_episode(env_id, scenario, strategy, params, world, seed):
@@ -74,7 +78,7 @@ def test_the_car_runs_the_cli_episode():
     ("reciprocity/Lattice-v0", "rbpf", RBPF), ("reciprocity/Filament-v0", "detection-infotaxis", {}),
     ("reciprocity/Flow-v0", "reciprocity-wind", {"h": 2.0})])
 def test_rgb_frames_and_the_belief_image(env_id, strategy, params):
-    env = rg.BeliefImage(gymnasium.make(env_id, render_mode="rgb_array"), size=24)
+    env = rg.BeliefImage(gymnasium.make(env_id, render_mode="rgb_array", **CHEAP.get(env_id, {})), size=24)
     policy = rg.StrategyPolicy(strategy, env, **params)
     obs, _ = env.reset(seed=3)
     policy.reset(3)
@@ -171,7 +175,7 @@ def test_observations_and_infos_pickle(env_id):
     """What a subprocess vector environment sends back (observations, reset and step
     infos, the final summary) pickles; the task arrives read-only, without the platform."""
     import pickle
-    env = gymnasium.make(env_id)
+    env = gymnasium.make(env_id, **CHEAP.get(env_id, {}))
     obs, info = env.reset(seed=0)
     sent = [obs, info]
     env.action_space.seed(0)
