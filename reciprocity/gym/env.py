@@ -107,9 +107,8 @@ class SearchGymEnv(gymnasium.Env):
     cap_terminates : bool
         When the round budget is spent, report ``terminated`` instead of ``truncated``.
         The budget is then part of the task, as the reward already treats it (a failed
-        stop pays the rounds left): a learner that bootstraps the value of a truncated
-        state (stable-baselines3 does) otherwise values running out the budget as
-        "the search goes on", which makes every stop look worse than it is.
+        stop pays the rounds left). A learner that bootstraps the value of a truncated
+        state (stable-baselines3 does) then sees the spent budget as the end it is.
     **world
         The scenario's keys: its world's (``source``, ``strength``, ``noise``,
         ``mismatch``, ``start`` with the heading in radians, ...), ``max_steps`` and
