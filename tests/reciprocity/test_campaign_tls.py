@@ -9,6 +9,9 @@ from reciprocity.campaign import TLSFiles, build_report, load_spec, run_campaign
 from reciprocity.cli import main
 from reciprocity.errors import SearchError
 
+#: A safety net against a hung openssl (it takes well under a second), not a speed check.
+OPENSSL_HANG_S = 600
+
 SPEC = """\
 seeds: 2
 strategies: {random-walk: {n_steps: 3}}
@@ -17,7 +20,7 @@ scenarios: [otto-2d]
 
 
 def _openssl(*args, cwd):
-    subprocess.run(["openssl", *args], cwd=cwd, check=True, capture_output=True, timeout=60)
+    subprocess.run(["openssl", *args], cwd=cwd, check=True, capture_output=True, timeout=OPENSSL_HANG_S)
 
 
 def _signed(name: str, ca: str, cwd) -> tuple[str, str]:
