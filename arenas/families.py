@@ -414,8 +414,8 @@ def generate(family: str, seed: int, **size) -> Arena:
     >>> a = arenas.generate("rooms", 3)
     >>> a.name, a.bounds
     ('rooms-3', ((0.0, 140.0), (0.0, 140.0)))
-    >>> bool(a.contains(a.source, clearance=8.0)[0])
-    True
+    >>> bool(a.contains(a.source, clearance=8.0)[0]), a.source_clearance
+    (True, 8.0)
     """
     knobs = _knobs(family)
     seed = _check_seed(seed)
@@ -433,7 +433,7 @@ def generate(family: str, seed: int, **size) -> Arena:
         arena = Arena.from_polygons(boundary, obstacles, name=name)
     _check_reachable(arena, family)
     source, start = _source_and_start(arena, rng)
-    return arena.with_scenario(source=source, start=start)
+    return arena.with_scenario(source=source, start=start, source_clearance=CLEARANCE)
 
 
 def _short(v) -> str:

@@ -125,6 +125,10 @@ class Arena:
         Start pose ``(x, y, heading)``: cm, cm, radians.
     circle : tuple (cx, cy, r) or None
         For :meth:`disk` arenas, the exact circle (cm).
+    source_clearance : float
+        How far (cm) from every wall the source was drawn at least, when the arena says so
+        (a generated arena: :data:`arenas.families.CLEARANCE`); 0 says nothing. A public
+        statement about where sources lie, which a search may take as its prior.
     """
 
     boundary: np.ndarray
@@ -134,6 +138,7 @@ class Arena:
     strength: float = DEFAULT_STRENGTH
     start: np.ndarray | None = None
     circle: tuple | None = None
+    source_clearance: float = 0.0
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -196,13 +201,24 @@ class Arena:
         return arena.with_scenario(source=source, strength=strength, start=start)
 
     def with_scenario(self, *, source=None, strength: float | None = None,
-                      start=None) -> "Arena":
-        """Return a copy with a different true source, strength and/or start pose.
+                      start=None, source_clearance: float | None = None) -> "Arena":
+        """Return a copy with a different true source, strength, start pose and/or
+        source clearance (cm).
 
         Arguments left as None keep the current value (the source and start are
-        validated to lie in the free region).
+        validated to lie in the free region), except that a new source drops the
+        clearance the old one was drawn with unless `source_clearance` is given; a source
+        nearer the walls than its clearance is refused.
         """
         src = self.source if source is None else self._check_point(source, "the source")
+        clear = (self.source_clearance if source is None else 0.0) if source_clearance is None \
+            else source_clearance
+        if isinstance(clear, bool) or not isinstance(clear, Real) or not 0 <= float(clear) <= MAX_COORD_CM:
+            raise ArenaError(f"source_clearance must be a distance in [0, {MAX_COORD_CM:g}] cm; got {clear!r}")
+        clear = float(clear)
+        if clear > 0 and src is not None and self.wall_distance(src)[0] < clear - 1e-9:
+            raise ArenaError(f"the source ({src[0]:g}, {src[1]:g}) lies {self.wall_distance(src)[0]:.3g} cm "
+                             f"from the walls, nearer than its source_clearance of {clear:g} cm")
         ok = strength is None or (isinstance(strength, Real) and not isinstance(strength, bool)
                                   and 0 < float(strength) <= MAX_STRENGTH)
         if not ok:
@@ -216,7 +232,7 @@ class Arena:
             self._check_point(s[:2], "the start")
             heading = float(s[2]) % (2 * np.pi) if s.shape == (3,) else 0.0
             st = np.array([s[0], s[1], heading])
-        return Arena(self.boundary, self.obstacles, self.name, src, c, st, self.circle)
+        return Arena(self.boundary, self.obstacles, self.name, src, c, st, self.circle, clear)
 
     def without_scenario(self) -> "Arena":
         """The geometry alone (no source, start; default strength), cached per arena.

@@ -11,6 +11,7 @@ File format (all lengths in cm, the start heading in degrees)::
     source: [70.21, 70.21]           # optional true source position
     strength: 850                    # optional source strength c in (0, 1e6] (default 850)
     start: [128, 12, 135]            # optional start: x, y[, heading in degrees]
+    source_clearance: 8              # optional: the source lies at least this far (cm) from the walls
 
 Coordinates lie within ±1e5 cm, a disk radius in (0, 1e5] cm; an arena has at most 1000
 obstacles and 20000 obstacle vertices. Files are read by the strict loader of :mod:`arenas.files`: safe YAML (no Python objects),
@@ -33,7 +34,8 @@ from .poses import pose_from_degrees, pose_to_degrees
 
 __all__ = ["load", "save", "builtin_names", "from_dict", "to_dict", "DEFAULT_STRENGTH"]
 
-_KEYS = {"name", "boundary", "disk", "obstacles", "source", "strength", "start", "description"}
+_KEYS = {"name", "boundary", "disk", "obstacles", "source", "strength", "start", "description",
+         "source_clearance"}
 
 
 def builtin_names() -> list[str]:
@@ -172,9 +174,15 @@ def from_dict(data: dict, where: str = "arena") -> Arena:
                                  f"got {disk!r}")
             center = _coords(disk["center"], "disk.center", where, "[x, y]")
             radius = _number(disk["radius"], "disk.radius", where, 0.0, MAX_COORD_CM)
-            return Arena.disk(center, radius, obstacles, **kw)
+            arena = Arena.disk(center, radius, obstacles, **kw)
+            if "source_clearance" in data:
+                arena = arena.with_scenario(source_clearance=data["source_clearance"])
+            return arena
         boundary = _coords(data["boundary"], "boundary", where, "of [x, y] vertices")
-        return Arena.from_polygons(boundary, obstacles, **kw)
+        arena = Arena.from_polygons(boundary, obstacles, **kw)
+        if "source_clearance" in data:
+            arena = arena.with_scenario(source_clearance=data["source_clearance"])
+        return arena
     except ArenaError as exc:
         if str(exc).startswith(where):
             raise
@@ -195,6 +203,8 @@ def to_dict(arena: Arena) -> dict:
     out["strength"] = float(arena.strength)
     if arena.start is not None:
         out["start"] = pose_to_degrees(arena.start)
+    if arena.source_clearance > 0:
+        out["source_clearance"] = float(arena.source_clearance)
     return out
 
 

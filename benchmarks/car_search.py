@@ -20,7 +20,11 @@ simulated seconds per second of computing (``speed``).
     reciprocity campaign benchmarks/search_car_both.yaml --out car_campaign
     python benchmarks/car_search.py --from-campaign car_campaign --out benchmarks/car_search/campaign.csv
 
-``--minutes M`` stops starting new draws after M minutes.
+``--minutes M`` stops starting new draws after M minutes. ``--only unreachable`` runs only
+the draws whose source the evaluator judges out of the car's reach (judged at reset; the
+rest are skipped), and ``--set KEY=VALUE`` passes a parameter to the strategy:
+
+    nice -n 10 python benchmarks/car_search.py --arenas paper --draws 200 --only unreachable --out benchmarks/car_search/unreachable.csv
 """
 
 from __future__ import annotations
@@ -47,11 +51,12 @@ def scenario_of(name: str, i: int):
     if name in ("paper", "builtin-maze"):
         sc = load_scenario(arenas.load(name.removeprefix("builtin-")))
         draw = world_draw(sc, episode_seed(CAMPAIGN_SEED, i))
-        return sc.with_world({"source": draw["source"], "start": draw["start"]})
+        return sc.with_world(draw)
     return load_scenario(arenas.generate(name, i))
 
 
-def run(names: list[str], draws: int, out: Path, minutes: float | None, start: int = 0) -> None:
+def run(names: list[str], draws: int, out: Path, minutes: float | None, start: int = 0,
+        only: str = "all", params: dict | None = None) -> None:
     from resumable import appending, deadline, done_keys
     from reciprocity.env import SearchEnv, rollout
     from reciprocity.strategies import STRATEGIES
@@ -66,8 +71,12 @@ def run(names: list[str], draws: int, out: Path, minutes: float | None, start: i
                 if expired():
                     return
                 env = SearchEnv(scenario_of(name, i), platform="car")
+                if only != "all":               # the evaluator's judgement, made at reset
+                    env.reset(seed=i)
+                    if env.source_reachable != (only == "reachable"):
+                        continue
                 t0 = time.perf_counter()
-                s = rollout(env, StrategyAgent(STRATEGIES["reciprocity"], {}), i).summary
+                s = rollout(env, StrategyAgent(STRATEGIES["reciprocity"], dict(params or {})), i).summary
                 wall = time.perf_counter() - t0
                 row = dict(arena=name, draw=i, success=s["success"], source_reachable=s.get("source_reachable"),
                            stop=s["stop_reason"].split(":")[0], error=round(float(s["error"]), 2),
@@ -125,9 +134,9 @@ def table(paths: list[Path]) -> str:
         sim = sum(float(r["sim_time_s"]) for r in sub)
         wall = sum(float(r["wall_time_s"]) for r in sub)
         slow = min(float(r["speed"]) for r in sub)
-        med = np.median([int(r["n_measurements"]) for r in reach]) if reach else float("nan")
+        med = f'{np.median([int(r["n_measurements"]) for r in reach]):g}' if reach else "-"
         out.append(f"| {name} | {len(sub)} | {rate(sum(yes(r['success']) for r in reach), len(reach))} | "
-                   f"{med:g} | {stops}/{len(unreach)} ({quick}) | "
+                   f"{med} | {stops}/{len(unreach)} ({quick}) | "
                    f"{sum(int(r['collisions']) for r in sub)} | {sim / wall:.1f}x / {slow:.1f}x |")
     return "\n".join(out)
 
@@ -142,14 +151,27 @@ def main(argv=None) -> int:
     ap.add_argument("--table", type=Path, nargs="+", default=None, help="print the table of these CSVs")
     ap.add_argument("--from-campaign", type=Path, default=None,
                     help="write --out from this campaign folder's results instead of running")
+    ap.add_argument("--only", choices=("all", "reachable", "unreachable"), default="all",
+                    help="run only the draws whose source the evaluator judges so (judged at reset; "
+                         "the others are skipped and not written)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a parameter of the reciprocity strategy (YAML value), e.g. source_clearance=0")
     a = ap.parse_args(argv)
+    params = {}
+    for item in a.set:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            print(f"error: --set {item!r}: give KEY=VALUE", file=sys.stderr)
+            return 2
+        import yaml
+        params[key] = yaml.safe_load(value)
     if a.from_campaign:
         from_campaign(a.from_campaign, a.out)
         return 0
     if a.table:
         print(table(a.table))
         return 0
-    run(a.arenas.split(","), a.draws, a.out, a.minutes, a.start)
+    run(a.arenas.split(","), a.draws, a.out, a.minutes, a.start, a.only, params)
     return 0
 
 

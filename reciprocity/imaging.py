@@ -408,6 +408,8 @@ class ImagingMap(Belief):
         if "P" not in self._cache:
             if self.combine == "mean":
                 P = self.p_maps().mean(axis=1)
+                if self.allowed is not None:
+                    P = np.where(self.allowed, P, 0.0)
             else:
                 if self.strength_range is not None:
                     s = self._marginal_misfit()
@@ -425,7 +427,7 @@ class ImagingMap(Belief):
 
     def restrict(self, allowed: np.ndarray | None) -> None:
         """Let the source lie only at the nodes where `allowed` (bool, one per node) is
-        True: a prior that is zero elsewhere (``combine="product"``). None lifts it."""
+        True: a prior that is zero elsewhere. None lifts it."""
         if allowed is not None:
             allowed = np.asarray(allowed, dtype=bool)
             if allowed.shape != (len(self.nodes),) or not allowed.any():
@@ -464,11 +466,14 @@ class ImagingMap(Belief):
         return self.nodes
 
     def weights(self) -> np.ndarray:
-        """Posterior weights: ``P_M`` times the nodal area, normalised (uniform before
-        any reading)."""
+        """Posterior weights: ``P_M`` times the nodal area, normalised (before any reading
+        uniform over the nodes where a source may lie, :meth:`restrict`)."""
         if self._node_areas is None:
             self._node_areas = node_areas(self.nodes, self.triangles)
-        w = self._node_areas * (self.values() if self.n else 1.0)
+        if self.n:
+            w = self._node_areas * self.values()
+        else:                               # the prior: uniform where a source may lie
+            w = self._node_areas * (1.0 if self.allowed is None else self.allowed)
         return w / w.sum()
 
     def entropy(self) -> float:

@@ -62,9 +62,10 @@ def world_draw(sc: Scenario, seed: int) -> dict:
     Returns
     -------
     dict
-        ``{"source": [x, y], "start": [x, y, heading]}``: cm, cm, radians. The source is
-        at least :data:`SOURCE_CLEARANCE` cm and the start :data:`START_CLEARANCE` cm
-        from the walls; the heading is uniform in [0, 2π).
+        ``{"source": [x, y], "start": [x, y, heading], "source_clearance": c}``: cm, cm,
+        radians, cm. The source is at least :data:`SOURCE_CLEARANCE` cm and the start
+        :data:`START_CLEARANCE` cm from the walls; the heading is uniform in [0, 2π). The
+        task says so (``source_clearance``, public): a strategy may take it as its prior.
     """
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(_WORLD_STREAM,)))
     several = sc.params.get("sources")
@@ -75,8 +76,8 @@ def world_draw(sc: Scenario, seed: int) -> dict:
     start = sc.arena.random_free_points(1, rng, clearance=START_CLEARANCE)[0]
     heading = rng.uniform(0.0, 2.0 * math.pi)
     if several:
-        return {"sources": sources, "start": [*start.tolist(), heading]}
-    return {"source": source.tolist(), "start": [*start.tolist(), heading]}
+        return {"sources": sources, "start": [*start.tolist(), heading], "source_clearance": SOURCE_CLEARANCE}
+    return {"source": source.tolist(), "start": [*start.tolist(), heading], "source_clearance": SOURCE_CLEARANCE}
 
 
 def _separated_points(sc: Scenario, k: int, rng: np.random.Generator) -> list:

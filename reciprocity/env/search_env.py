@@ -188,6 +188,13 @@ class SearchEnv:
         return self._rounds
 
     @property
+    def source_reachable(self) -> bool:
+        """The evaluator's judgement of this episode's source, made at :meth:`reset`: can
+        the first observer reach it on the true walls (the summary's ``source_reachable``;
+        truth side, never shown to an agent)."""
+        return self._source_reachable
+
+    @property
     def budget_spent(self) -> bool:
         """The round budget is spent (no further step is allowed)."""
         return self.max_steps is not None and self._rounds >= self.max_steps

@@ -36,12 +36,13 @@ from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import Bound, point
 from ..worlds.flow import TRUTH_H, FlowMismatch, FlowWorld
 from .arena import check_start, default_start, scenario_arena
+from .sources import source_clearance
 
 __all__ = ["FLOW", "FLOW_KEYS", "params_of"]
 
 #: Parameters of a ``flow`` scenario.
 FLOW_KEYS = ("arena", "source", "inflow", "outflow", "speed", "D", "tau", "walls", "strength", "detector",
-             "truth_h", "mismatch")
+             "truth_h", "mismatch", "source_clearance")
 #: Bounds of the numeric parameters (cm, s): the plume then stays longer than a tenth of a
 #: millimetre and the counts countable.
 BOUNDS = {
@@ -105,6 +106,7 @@ def _check(params: dict) -> dict:
     arena = _arena(params)
     out["arena"] = arena
     out["source"] = arena.source.tolist()
+    out["source_clearance"] = source_clearance(params, arena)
     for key, bound in BOUNDS.items():
         out[key] = float(bound.check(params.get(key, DEFAULTS[key]), key))
     walls = params.get("walls", "impermeable")
@@ -134,7 +136,8 @@ def params_of(params: dict) -> FlowParams:
 
 
 def _build(params: dict, rng: np.random.Generator) -> FlowWorld:
-    return FlowWorld(params["arena"], params_of(params), mismatch=params["mismatch"], h=params["truth_h"])
+    return FlowWorld(params["arena"], params_of(params), mismatch=params["mismatch"], h=params["truth_h"],
+                     source_clearance=params.get("source_clearance", 0.0))
 
 
 def _point(world: FlowWorld, scenario, options: dict):

@@ -12,13 +12,13 @@ from ..validation import number, point
 from ..worlds.poisson import Mismatch, PoissonWorld, TRUTH_H, shifted_walls
 from .arena import check_start, default_start, scenario_arena
 from .sensing import believed_arena, check_lidar, check_map
-from .sources import source_list, source_strengths
+from .sources import source_clearance, source_list, source_strengths
 
 __all__ = ["POISSON", "POISSON_KEYS"]
 
 #: Parameters of a ``poisson`` scenario.
 POISSON_KEYS = ("arena", "source", "strength", "noise", "truth_h", "mismatch", "sources", "strengths",
-                "max_sources", "map", "lidar")
+                "max_sources", "map", "lidar", "source_clearance")
 #: Largest sensor noise (standard deviation, signal units).
 MAX_NOISE = 1e6
 #: Most triangles of the truth's mesh (its quadratic elements then have about 2e6 unknowns,
@@ -44,6 +44,7 @@ def _check(params: dict) -> dict:
     out["source"] = arena.source.tolist()
     out["strength"] = float(arena.strength)
     out.update(_several(params, sources, arena))
+    out["source_clearance"] = source_clearance(params, arena)
     out["noise"] = number(params.get("noise", 12.0), "noise", 0.0, MAX_NOISE, unit="(signal units)")
     h = number(params.get("truth_h", TRUTH_H), "truth_h", 0.5, 10.0, unit="cm")
     triangles = arena.area / (0.65 * h * h)
@@ -92,7 +93,7 @@ def _build(params: dict, rng: np.random.Generator) -> PoissonWorld:
                         mismatch=params["mismatch"], sources=params.get("sources"),
                         strengths=params.get("strengths"), max_sources=params.get("max_sources"),
                         believed=believed_arena(params["arena"], params.get("map", "known")),
-                        lidar=params.get("lidar"))
+                        lidar=params.get("lidar"), source_clearance=params.get("source_clearance", 0.0))
 
 
 def _point(world: PoissonWorld, scenario, options: dict):

@@ -15,9 +15,12 @@ import numpy as np
 
 from ..errors import SearchError
 from ..outcome import MAX_SOURCES
-from ..validation import whole
+from ..validation import number, whole
 
-__all__ = ["source_list", "source_strengths"]
+__all__ = ["source_list", "source_strengths", "source_clearance", "MAX_SOURCE_CLEARANCE"]
+
+#: Largest ``source_clearance`` (cm).
+MAX_SOURCE_CLEARANCE = 1000.0
 
 
 def source_list(params: dict, place: Callable, *, prefix: str = "", what: str = "points",
@@ -110,3 +113,43 @@ def source_strengths(params: dict, sources: list | None, default: float, strengt
         raise SearchError(f"{prefix}max_sources ({bound}) is less than the number of sources ({len(sources)}); "
                           f"give max_sources from {len(sources)} to {MAX_SOURCES}")
     return {"sources": sources, "strengths": values, "max_sources": bound}
+
+
+def source_clearance(params: dict, arena) -> float:
+    """The ``source_clearance`` key of an arena world: the task's public statement that
+    every true source lies at least this far (cm) from the walls. Not given, it is the
+    arena's own (a generated arena's source was drawn 8 cm off the walls; a source the
+    scenario replaces drops it), else 0: anywhere in the free region. A strategy may take
+    it as its prior; the true sources must keep it.
+
+    Parameters
+    ----------
+    params : dict
+        The world's parameters as given.
+    arena : arenas.Arena
+        The scenario's arena, with its source (or the first of several) and the
+        clearance it states.
+
+    Returns
+    -------
+    float
+        The clearance, cm.
+
+    Raises
+    ------
+    SearchError
+        Not a number in ``[0, MAX_SOURCE_CLEARANCE]``, or a true source nearer the walls.
+    """
+    clearance = number(params.get("source_clearance", arena.source_clearance), "source_clearance", 0.0,
+                       MAX_SOURCE_CLEARANCE, unit="cm")
+    if clearance > 0:
+        given = params.get("sources")
+        pts = np.array(given if given is not None else [arena.source], dtype=float).reshape(-1, 2)
+        gap = arena.wall_distance(pts)
+        if gap.min() < clearance - 1e-9:
+            i = int(np.argmin(gap))
+            key = f"sources[{i}]" if given is not None else "source"
+            raise SearchError(f"source_clearance of {clearance:g} cm: {key} ({pts[i, 0]:g}, {pts[i, 1]:g}) lies "
+                              f"{gap[i]:.3g} cm from the walls; give source_clearance <= {gap.min():.3g} cm or "
+                              "move the source")
+    return clearance

@@ -216,7 +216,8 @@ class SourceBook:
         if not im.n:
             return raw
         nodes = raw.nodes
-        allowed = np.ones(len(nodes), dtype=bool)
+        # the raw map's own prior (e.g. the task's source clearance) holds for every source
+        allowed = np.ones(len(nodes), dtype=bool) if raw.allowed is None else raw.allowed.copy()
         for s in exclude_near:
             allowed &= np.hypot(*(nodes - s).T) >= MIN_SEPARATION
         if within is not None:

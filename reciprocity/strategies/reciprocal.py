@@ -350,6 +350,14 @@ class ReciprocityStrategy(Strategy):
         Relative standard deviation of the stated strength (0: exactly known), added in
         quadrature to `model_error`: a world stronger or weaker than stated moves every
         reading by that fraction.
+    source_clearance : "task" or float
+        The prior keeps every possible source at least this far (cm, less one mesh size)
+        from the walls: ``"task"`` (default) takes the task's public ``source_clearance``
+        (a campaign's ``random_source`` draws sources ``SOURCE_CLEARANCE`` cm off the
+        walls and says so; 0, anywhere, when the task says nothing). A source a few mm
+        from an absorbing wall reads as almost nothing, so without it the belief keeps
+        mass along every wall until readings are taken next to each stretch
+        (``benchmarks/car_search.md``).
     survey : bool
         On an unknown map, explore by :class:`~reciprocity.intents.Survey` (go to the
         frontier point and scan, taking no reading) where the platform takes it, instead
@@ -404,7 +412,7 @@ class ReciprocityStrategy(Strategy):
                  h: float = 1.0, solver: GreenSolver | None = None, max_sources: int | None = None,
                  more_tol: float = MORE_TOL, survey_travel: float | None = None,
                  survey_reach: float | str = "reach", model_error: float | str = "estimate",
-                 strength_error: float = 0.0, survey: bool = True):
+                 strength_error: float = 0.0, survey: bool = True, source_clearance: float | str = "task"):
         super().__init__()
         if preset is not None and preset not in PRESETS:
             raise SearchError(f"preset must be one of {tuple(PRESETS)} or None; got {preset!r}")
@@ -485,6 +493,11 @@ class ReciprocityStrategy(Strategy):
         if not isinstance(survey, bool):
             raise SearchError(f"survey must be true or false; got {survey!r}")
         self.survey = survey
+        if source_clearance != "task" and (isinstance(source_clearance, (bool, str))
+                                           or not isinstance(source_clearance, (int, float))
+                                           or not 0 <= source_clearance < np.inf):
+            raise SearchError(f"source_clearance must be 'task' or a distance >= 0 cm; got {source_clearance!r}")
+        self.source_clearance = source_clearance if source_clearance == "task" else float(source_clearance)
         self.strength, self.h, self.solver = strength, float(h), solver
         self.strength_range = strength_range
 
@@ -501,6 +514,8 @@ class ReciprocityStrategy(Strategy):
                     survey_travel=self.survey_travel, survey_reach=self.survey_reach,
                     model_error=self.model_error, strength_error=self.strength_error, survey=self.survey,
                     model_error_used=getattr(self, "_model_error", None),
+                    source_clearance=self.source_clearance,
+                    source_clearance_used=getattr(self, "clearance_used", None),
                     h=self.h if self.solver is None else self.solver.h)
 
     def reading_sigma(self, nominal: dict) -> float:
@@ -563,6 +578,9 @@ class ReciprocityStrategy(Strategy):
         if self.mapping is not None:
             self.imaging = self.mapping.imaging(self.imaging)
         self.space = self._space(geometry)
+        self.clearance_used = float(ctx.nominal.get("source_clearance", 0.0)) \
+            if self.source_clearance == "task" else self.source_clearance
+        self._keep_off_walls(self.imaging)
         self.rng = ctx.rng
         self._reachable = self.space.reachable_from(pose[:2], self.clearance)
         self._sensing = self._reachable.copy()      # where readings could be taken from
@@ -577,6 +595,18 @@ class ReciprocityStrategy(Strategy):
             if self.rule == "info" else None
         self._start_book(ctx, c)
         self._check_reachable()
+
+    def _keep_off_walls(self, imaging: ImagingMap) -> None:
+        """The prior of `imaging` (on :attr:`space`'s nodes): no source nearer the
+        (believed) walls than the source clearance in use, less one mesh size, and on an
+        unknown map one more cell of its grid (believed walls reach that far into the free
+        space). A clearance that would leave no node leaves the prior as it is."""
+        if not self.clearance_used > 0:
+            return
+        margin = self.solver.h + (self.mapping.grid.cell if self.mapping is not None else 0.0)
+        allowed = self.space.wall_distance >= self.clearance_used - margin
+        if allowed.any():
+            imaging.restrict(allowed)
 
     def _start_book(self, ctx: SearchContext, strength) -> None:
         """Several sources: a :class:`~reciprocity.strategies.multi_source.SourceBook` when
@@ -657,9 +687,11 @@ class ReciprocityStrategy(Strategy):
         if self.book is None:
             self.imaging = self.mapping.imaging(self.imaging.on(self.solver, model_error=error))
             self.space = space
+            self._keep_off_walls(self.imaging)
         else:       # several sources: every reading on the new mesh, the found sources kept
             raw = self.mapping.imaging(base.on(self.solver, model_error=error))
             self.space = space
+            self._keep_off_walls(raw)
             self.imaging = self.book.rebase(raw, self.space.wall_distance)
         self._node_area = self.space.cell_areas
         self._reachable = self.space.admissible(self.clearance)

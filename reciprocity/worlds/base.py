@@ -66,6 +66,10 @@ class World(ABC):
 
     #: The task's public bound on the number of sources (1: the classic problem).
     max_sources: int = 1
+    #: The task's public statement that every source lies at least this far (cm) from the
+    #: walls (0: anywhere in the free region; a campaign's ``random_source`` draws them
+    #: ``SOURCE_CLEARANCE`` cm off). Part of the prior, not of the truth.
+    source_clearance: float = 0.0
 
     @property
     def sources(self) -> np.ndarray:
@@ -90,10 +94,12 @@ class World(ABC):
         return bool(d.min() <= self.found_radius)
 
     def _nominal_sources(self, out: dict) -> dict:
-        """`out` with the task's bound on the number of sources, when above 1 (never the
-        sources, their number or strengths)."""
+        """`out` with the task's bound on the number of sources, when above 1, and its
+        ``source_clearance``, when above 0 (never the sources, their number or strengths)."""
         if self.max_sources > 1:
             out["max_sources"] = self.max_sources
+        if self.source_clearance > 0:
+            out["source_clearance"] = float(self.source_clearance)
         return out
 
     def _described_sources(self, out: dict) -> dict:

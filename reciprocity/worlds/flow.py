@@ -95,12 +95,15 @@ class FlowWorld(World):
         Mesh size of the truth's solver, cm.
     success_radius : float
         A converged estimate within this distance (cm) succeeds.
+    source_clearance : float
+        The task's public statement that the source lies at least this far (cm) from the
+        walls, told to the strategy (0: anywhere).
     """
 
     kind = "flow"
 
     def __init__(self, arena: Arena, params: FlowParams, *, mismatch: FlowMismatch | None = None,
-                 h: float = TRUTH_H, success_radius: float = 5.0):
+                 h: float = TRUTH_H, success_radius: float = 5.0, source_clearance: float = 0.0):
         if arena.source is None:
             raise SearchError(f"arena {arena.name!r} has no true source: give source: [x, y]")
         self.arena = arena
@@ -112,6 +115,7 @@ class FlowWorld(World):
         self.source = np.asarray(arena.source, dtype=float)
         self.strength = float(self.truth.strength)
         self.h = float(h)
+        self.source_clearance = float(source_clearance)
         self.success_radius = float(success_radius)
         self._field: Field | None = None
 
@@ -148,8 +152,9 @@ class FlowWorld(World):
 
     def nominal(self) -> dict:
         p = self.params
-        return dict(arena=replace(self.arena, source=None), inflow=p.inflow, outflow=p.outflow, speed=p.speed,
-                    D=p.D, tau=p.tau, walls=p.walls, strength=p.strength, detector=p.detector)
+        return self._nominal_sources(dict(arena=replace(self.arena, source=None), inflow=p.inflow,
+                                          outflow=p.outflow, speed=p.speed, D=p.D, tau=p.tau, walls=p.walls,
+                                          strength=p.strength, detector=p.detector))
 
     def describe(self) -> dict:
         return dict(flow=self.params.as_dict(), truth_h=self.h, mismatch=self.mismatch.as_dict())

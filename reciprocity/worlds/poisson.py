@@ -174,6 +174,9 @@ class PoissonWorld(World):
     lidar : dict, optional
         The platform's range sensor ``{beams, range, noise}`` (cm), told to the strategy
         as it is (the platforms read it on :attr:`true_arena`).
+    source_clearance : float
+        The task's public statement that every source lies at least this far (cm) from
+        the walls, told to the strategy (0: anywhere).
     """
 
     kind = "poisson"
@@ -181,7 +184,8 @@ class PoissonWorld(World):
     def __init__(self, arena: Arena, *, noise: float = 12.0, h: float = TRUTH_H,
                  mismatch: Mismatch | None = None, success_radius: float = 5.0,
                  sources=None, strengths=None, max_sources: int | None = None,
-                 believed: Arena | None = None, lidar: dict | None = None):
+                 believed: Arena | None = None, lidar: dict | None = None,
+                 source_clearance: float = 0.0):
         if arena.source is None and sources is None:
             raise SearchError(f"arena {arena.name!r} has no true source: give source: [x, y]")
         if not np.isfinite(noise) or noise < 0:
@@ -204,6 +208,7 @@ class PoissonWorld(World):
         self._field: Field | None = None
         self.believed = believed
         self.lidar = None if lidar is None else dict(lidar)
+        self.source_clearance = float(source_clearance)
 
     @property
     def field(self) -> Field:

@@ -116,3 +116,17 @@ def test_bad_input_names_the_key_the_value_and_what_is_allowed(call, words):
         call()
     for w in words:
         assert w in str(exc.value)
+
+
+def test_a_generated_arena_states_the_clearance_its_source_was_drawn_with():
+    a = arenas.generate("rooms", 3)
+    assert a.source_clearance == CLEARANCE
+    assert a.wall_distance(a.source)[0] >= CLEARANCE
+    assert arenas.from_dict(arenas.to_dict(a)).source_clearance == CLEARANCE      # an arena file keeps it
+    moved = a.with_scenario(source=[20.0, 20.0])        # a new source says nothing of how it was drawn
+    assert moved.source_clearance == 0.0
+    assert a.with_scenario(strength=500.0).source_clearance == CLEARANCE
+    with pytest.raises(ArenaError, match="nearer than its source_clearance of 30 cm"):
+        a.with_scenario(source_clearance=30.0)
+    with pytest.raises(ArenaError, match="source_clearance must be a distance"):
+        a.with_scenario(source_clearance=-1)
