@@ -157,14 +157,12 @@ def main(argv=None) -> int:
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="a parameter of the reciprocity strategy (YAML value), e.g. source_clearance=0")
     a = ap.parse_args(argv)
-    params = {}
-    for item in a.set:
-        key, sep, value = item.partition("=")
-        if not sep or not key:
-            print(f"error: --set {item!r}: give KEY=VALUE", file=sys.stderr)
-            return 2
-        import yaml
-        params[key] = yaml.safe_load(value)
+    from resumable import strategy_sets
+    try:
+        params = strategy_sets(a.set)
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     if a.from_campaign:
         from_campaign(a.from_campaign, a.out)
         return 0

@@ -1,4 +1,5 @@
-"""A CSV of benchmark rows written as episodes finish, that a second run resumes."""
+"""A CSV of benchmark rows written as episodes finish, that a second run resumes; the
+strategy parameters a script takes as ``--set KEY=VALUE``."""
 
 from __future__ import annotations
 
@@ -34,3 +35,21 @@ def deadline(minutes: float | None):
     """``expired()``: whether `minutes` have passed since this call (never, for None)."""
     end = None if minutes is None else time.monotonic() + 60 * minutes
     return lambda: end is not None and time.monotonic() > end
+
+
+def strategy_sets(items: list[str]) -> dict:
+    """``--set KEY=VALUE`` options as strategy parameters (each value read as YAML).
+
+    Raises
+    ------
+    ValueError
+        An item without ``=`` or without a key (the message names it).
+    """
+    import yaml
+    out = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise ValueError(f"--set {item!r}: give KEY=VALUE")
+        out[key] = yaml.safe_load(value)
+    return out

@@ -30,7 +30,7 @@ FIELDS = ["family", "draw", "mode", "arena", "success", "converged", "stop", "er
 
 
 def run(families: list[str], draws: int, out: Path, minutes: float | None, modes=tuple(MODES),
-        start: int = 0) -> None:
+        start: int = 0, params: dict | None = None) -> None:
     import arenas
     from reciprocity.env import SearchEnv, rollout
     from reciprocity.scenarios import load_scenario
@@ -50,7 +50,7 @@ def run(families: list[str], draws: int, out: Path, minutes: float | None, modes
                         continue
                     env = SearchEnv(scenario, world=dict(world))
                     t0 = time.perf_counter()
-                    s = rollout(env, StrategyAgent(STRATEGIES["reciprocity"], {}), i).summary
+                    s = rollout(env, StrategyAgent(STRATEGIES["reciprocity"], dict(params or {})), i).summary
                     w.writerow(dict(family=fam, draw=i, mode=mode, arena=s["arena"], success=s["success"],
                                     converged=s["converged"], stop=s["stop"],
                                     error=None if s["error"] is None else round(s["error"], 3),
@@ -127,14 +127,21 @@ def main(argv=None) -> int:
     p.add_argument("--modes", default="known,unknown", help="comma-separated: known, unknown")
     p.add_argument("--start", type=int, default=0, help="first draw")
     p.add_argument("--table", type=Path, nargs="+", help="print the table of runs CSV(s) instead")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="a parameter of the reciprocity strategy (YAML value), e.g. source_clearance=0")
     args = p.parse_args(argv)
+    from resumable import strategy_sets
+    try:
+        params = strategy_sets(args.set)
+    except ValueError as exc:
+        p.error(str(exc))
     if args.table:
         print(table(args.table))
         return 0
     modes = tuple(m for m in args.modes.split(",") if m)
     if not modes or set(modes) - set(MODES):
         p.error(f"--modes takes known and/or unknown; got {args.modes!r}")
-    run(args.families, args.draws, args.out, args.minutes, modes, args.start)
+    run(args.families, args.draws, args.out, args.minutes, modes, args.start, params)
     print(table(args.out))
     return 0
 
