@@ -298,6 +298,49 @@ def table(out: Path, experiment: str = "ladder", stream: str = "campaign", sourc
     return "\n".join(lines)
 
 
+def streams(out: Path, experiment: str = "ladder", source: str = "0,7") -> str:
+    """Per rung, the ``integers`` stream against the ``campaign`` stream in the rows of `out`.
+
+    Parameters
+    ----------
+    out : Path
+        Results CSV written by :func:`run`.
+    experiment : str
+        Which rows.
+    source : str
+        Source node as written in the CSV (``"0,7"``).
+
+    Returns
+    -------
+    str
+        A markdown table: per rung, the runs and success and reached rates of each stream,
+        and their differences (integers − campaign, percentage points) with Newcombe's 95 %
+        interval. The two streams hold different episodes, so a difference whose interval
+        holds 0 is what sampling alone would give.
+    """
+    with out.open() as f:
+        rows = [r for r in csv.DictReader(f) if r["experiment"] == experiment and r["source"] == source]
+    lines = ["| rung | integers: runs, success, reached | campaign: runs, success, reached "
+             "| success, integers − campaign (points) | reached, integers − campaign (points) |",
+             "|---|---|---|---|---|"]
+    for label, _, _ in EXPERIMENTS[experiment]:
+        k = rung_id(label)
+        count = {}
+        for stream in STREAMS:
+            sel = [r for r in rows if r["rung"] == k and r["stream"] == stream]
+            count[stream] = (sum(r["success"] == "True" for r in sel), sum(r["reached"] == "True" for r in sel),
+                             len(sel))
+        (oi, hi, ni), (oc, hc, nc) = count["integers"], count["campaign"]
+        if not ni or not nc:
+            continue
+        ds, dr = newcombe(oi, ni, oc, nc), newcombe(hi, ni, hc, nc)
+        lines.append(f"| {k} | {ni}, {100 * oi / ni:.0f} %, {100 * hi / ni:.0f} % "
+                     f"| {nc}, {100 * oc / nc:.0f} %, {100 * hc / nc:.0f} % "
+                     f"| {100 * ds[0]:+.0f} [{100 * ds[1]:+.0f}, {100 * ds[2]:+.0f}] "
+                     f"| {100 * dr[0]:+.0f} [{100 * dr[1]:+.0f}, {100 * dr[2]:+.0f}] |")
+    return "\n".join(lines)
+
+
 def _fail(key: str, value: str, allowed: str) -> int:
     print(f"error: {key} {value!r}: {allowed}", file=sys.stderr)
     return 2
@@ -323,6 +366,8 @@ def main(argv=None) -> int:
     ap.add_argument("--minutes", default=None, help="start no new episode after this many minutes")
     ap.add_argument("--workers", default="1", help="processes (default 1)")
     ap.add_argument("--table", action="store_true", help="print the table of --out without running")
+    ap.add_argument("--streams", action="store_true",
+                    help="print, per rung, the integers stream against the campaign stream in --out, without running")
     args = ap.parse_args(argv)
     if args.experiment not in EXPERIMENTS:
         return _fail("--experiment", args.experiment, f"one of {', '.join(EXPERIMENTS)}")
@@ -352,10 +397,15 @@ def main(argv=None) -> int:
         return _fail("--workers", args.workers, "a whole number from 1 to 64")
     out = Path(args.out)
     where = f"{xy[0]},{xy[1]}"
-    if not args.table:
+    reading = args.table or args.streams
+    if not reading:
         run(args.experiment, rungs, args.stream, (xy[0], xy[1]), runs, out, minutes, workers)
     elif not out.exists():
-        return _fail("--out", args.out, "an existing results CSV of this script (with --table)")
+        return _fail("--out", args.out, "an existing results CSV of this script (with --table or --streams)")
+    if args.streams:
+        print(f"{SCENARIO}, source ({where}), experiment {args.experiment}: the two seed streams\n")
+        print(streams(out, args.experiment, where))
+        return 0
     print(f"{SCENARIO}, source ({where}), seed stream {args.stream}, experiment {args.experiment}\n")
     print(table(out, args.experiment, args.stream, where, None if args.table else runs))
     return 0

@@ -59,6 +59,20 @@ def test_the_table_reads_the_rows_and_differences(bench, tmp_path):
     assert "| 3 − 4 | the position estimated instead of known | +50 [-14, +79] | +25 [-32, +66] |" in text
 
 
+def test_the_streams_are_compared_rung_by_rung(bench, tmp_path):
+    out = tmp_path / "ladder.csv"
+    with out.open("w", newline="") as f:
+        w = csv.DictWriter(f, bench.FIELDS)
+        w.writeheader()
+        for stream, ok in (("integers", (True, False, False, False)), ("campaign", (True, True, True, False))):
+            for i, hit in enumerate(ok):
+                w.writerow(dict(experiment="ladder", rung="4", stream=stream, source="0,7", seed_index=i,
+                                seed=i, success=hit, reached=hit, steps=10, wall_s=0.1))
+    text = bench.streams(out)
+    assert "| 4 | 4, 25 %, 25 % | 4, 75 %, 75 % | -50 [-79, +14] | -50 [-79, +14] |" in text
+    assert "| 3 |" not in text                     # a rung without both streams is left out
+
+
 @pytest.mark.parametrize("args, key", [(["--runs", "0"], "--runs"), (["--rungs", "5"], "--rungs"),
                                        (["--stream", "odd"], "--stream"), (["--source", "0,10"], "--source"),
                                        (["--experiment", "x"], "--experiment"), (["--minutes", "-1"], "--minutes")])
