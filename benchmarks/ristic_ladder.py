@@ -97,8 +97,8 @@ RUNGS = (
 
 #: The rows of each experiment (``--experiment``).
 EXPERIMENTS = {"ladder": RUNGS, "control": CONTROL, "stay": STAY, "controls": FIVE, "sensor": SENSOR}
-#: Differences reported per experiment, ``(a, b, what b - a measures)``: along the ladder
-#: each rung against the next; elsewhere each row against the first.
+#: Differences reported along the ladder, ``(a, b, what changes from a to b)``, printed as
+#: rate(a) − rate(b): what the change costs; in the other experiments, each row minus the first.
 LADDER_STEPS = (("1'", "1", "the one-step control instead of shortest paths"),
                 ("1", "2", "eq. (25) instead of the lattice's own field"),
                 ("2", "3", "the map unknown"),
