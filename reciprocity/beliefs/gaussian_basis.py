@@ -27,6 +27,10 @@ that component (the first-order term vanishes):
 It is exact for one component and, for components far apart, tends to the discrete
 entropy of the weights plus the entropy of one Gaussian, ``log(2π e s²)``.
 
+With a directional sensor (``sense`` given: eq. (14) of papers/001,
+:func:`reciprocity.models.directional.directional_rate`) every rate also takes the
+robot's course just before the reading.
+
 A search that goes on tells that the source is not within ``found_radius`` of a place
 read from: each weight is multiplied by the component's mass outside that disc (the
 shape of the component is kept, a projection).
@@ -38,6 +42,7 @@ import numpy as np
 from scipy.special import gammaln
 from scipy.stats import ncx2
 
+from ..models.directional import directional_rate
 from ..models.plume import PlumeParams, plume_rate
 from ..observations import Observation
 from .base import Belief
@@ -87,6 +92,9 @@ class GaussianBasisBelief(Belief):
         A reading at ``r`` tells the source is not within this distance of ``r``.
     max_hits : int or None
         Counts ``>= max_hits`` are one outcome, else plain Poisson.
+    sense : {None, "toward", "printed"}
+        None: the sensor has no direction; else the directional sensor of eq. (14), read
+        in that sense; readings then need the robot's course.
 
     Attributes
     ----------
@@ -95,8 +103,9 @@ class GaussianBasisBelief(Belief):
     """
 
     def __init__(self, params: PlumeParams, means, bounds, *, width: float, pose_variance: float = 0.0,
-                 dt: float = 1.0, found_radius: float = 0.0, max_hits: int | None = None):
-        self.params, self.bounds = params, bounds
+                 dt: float = 1.0, found_radius: float = 0.0, max_hits: int | None = None,
+                 sense: str | None = None):
+        self.params, self.bounds, self.sense = params, bounds, sense
         self.mu = np.asarray(means, dtype=float).copy()
         self.M = len(self.mu)
         self.variance = float(width) ** 2 + float(pose_variance)
@@ -128,12 +137,18 @@ class GaussianBasisBelief(Belief):
         return float(self._w @ np.sum((self.mu - m) ** 2, axis=1)) + 2.0 * self.variance
 
     # -- likelihoods -------------------------------------------------------------------
-    def rates(self, at) -> np.ndarray:
-        """Expected hits per reading at places `at` (m, 2) for a source at each quadrature
-        node of each component, shape (m, M, Q)."""
+    def rates(self, at, courses=None) -> np.ndarray:
+        """Expected hits per reading at places `at` (m, 2), reached along `courses` (m,)
+        rad (directional sensor only), for a source at each quadrature node of each
+        component, shape (m, M, Q)."""
         src = (self.mu[:, None, :] + self._qx[None]).reshape(-1, 2)
         c = np.atleast_2d(np.asarray(at, dtype=float))
-        return (plume_rate(c, src, self.params) * self.dt).reshape(len(c), self.M, len(self._qw))
+        if self.sense is None:
+            r = plume_rate(c, src, self.params)
+        else:
+            r = directional_rate(c, np.broadcast_to(np.asarray(courses, dtype=float), (len(c),)), src,
+                                 self.params, self.sense)
+        return (r * self.dt).reshape(len(c), self.M, len(self._qw))
 
     def _node_loglik(self, z: float, mu: np.ndarray) -> np.ndarray:
         if self.max_hits is not None and z >= self.max_hits:
@@ -141,9 +156,11 @@ class GaussianBasisBelief(Belief):
         mu = np.maximum(mu, 1e-300)
         return z * np.log(mu) - mu - gammaln(z + 1)
 
-    def log_likelihood(self, obs: Observation) -> np.ndarray:
-        """``log ∫ N(r0; μ_i, C) p(z | r0) dr0`` of reading `obs` for each component, (M,)."""
-        ll = self._node_loglik(float(obs.value), self.rates(np.asarray(obs.position, dtype=float)[None])[0])
+    def log_likelihood(self, obs: Observation, course: float | None = None) -> np.ndarray:
+        """``log ∫ N(r0; μ_i, C) p(z | r0) dr0`` of reading `obs` (taken along `course`,
+        rad, for a directional sensor) for each component, (M,)."""
+        ll = self._node_loglik(float(obs.value),
+                               self.rates(np.asarray(obs.position, dtype=float)[None], course)[0])
         top = np.max(ll, axis=1, keepdims=True)
         return top[:, 0] + np.log(np.exp(ll - top) @ self._qw)
 
@@ -156,9 +173,10 @@ class GaussianBasisBelief(Belief):
         d2 = np.sum((c[:, None, :] - self.mu[None]) ** 2, axis=2) / self.variance
         return ncx2.cdf(self.found_radius ** 2 / self.variance, 2, d2)
 
-    def update(self, obs: Observation) -> None:
-        """Condition on `obs` (kind ``"hits"``, value = count) taken at ``obs.position``."""
-        ll = self.log_likelihood(obs)
+    def update(self, obs: Observation, course: float | None = None) -> None:
+        """Condition on `obs` (kind ``"hits"``, value = count) taken at ``obs.position``
+        (along `course`, rad, for a directional sensor)."""
+        ll = self.log_likelihood(obs, course)
         if self.found_radius > 0:
             ll = ll + np.log(np.maximum(1.0 - self.inside(obs.position)[0], 1e-300))
         self.logw += ll
@@ -188,9 +206,9 @@ class GaussianBasisBelief(Belief):
         return float(self.entropies(self._w))
 
     # -- what infotaxis needs ----------------------------------------------------------
-    def outcomes(self, candidates, *, eta: float = 1e-3):
-        """Joint table of the next reading at each candidate, given the source is not
-        found there.
+    def outcomes(self, candidates, *, eta: float = 1e-3, courses=None):
+        """Joint table of the next reading at each candidate (reached along `courses`,
+        rad, for a directional sensor), given the source is not found there.
 
         Returns
         -------
@@ -204,7 +222,7 @@ class GaussianBasisBelief(Belief):
             Distances from candidates to the means.
         """
         c = np.atleast_2d(np.asarray(candidates, dtype=float))
-        mu = self.rates(c)                                             # (m, M, Q)
+        mu = self.rates(c, courses)                                    # (m, M, Q)
         inside = self.inside(c)                                        # (m, M)
         w = self._w[None, :] * (1.0 - inside)
         p_found = 1.0 - w.sum(axis=1)

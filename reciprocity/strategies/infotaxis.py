@@ -459,6 +459,11 @@ class VoIInfotaxis(Strategy):
                 sub.belief.mcmc_steps = 0
             self.searchers.append(sub)
         self.n_shared = np.zeros(ctx.n_agents, dtype=int)
+        self.sense = ctx.nominal.get("sense")
+        if self.sense is not None and self.setup["belief"] != "gaussian-basis":
+            raise SearchError("a directional plume sensor (papers/001, eq. (14)) needs belief='gaussian-basis'")
+        #: each searcher's course, rad: the heading of its last move (a directional sensor reads by it)
+        self.courses = [float(s.heading) for s in self.searchers]
         self._update_status()
 
     def _basis_belief(self, ctx: SearchContext) -> GaussianBasisBelief:
@@ -469,7 +474,8 @@ class VoIInfotaxis(Strategy):
         width = self.setup["width"] if self.setup["width"] is not None else basis_width(nom["bounds"], n)
         return GaussianBasisBelief(nom["plume"], means, nom["bounds"], width=width,
                                    pose_variance=self.setup["pose_variance"], dt=nom["dt"],
-                                   found_radius=nom["found_radius"], max_hits=nom.get("max_hits"))
+                                   found_radius=nom["found_radius"], max_hits=nom.get("max_hits"),
+                                   sense=nom.get("sense"))
 
     def propose(self):
         if self.done:
@@ -479,12 +485,13 @@ class VoIInfotaxis(Strategy):
         out = {}
         for k, s in enumerate(self.searchers):
             out[k], s._next_heading = walker_proposal(s.nominal, s.pos, s.heading,
-                                                      lambda c, b=s.belief: self._basis_choice(b, c))
+                                                      lambda c, s=s: self._basis_choice(s.belief, s.pos, c))
         return out
 
-    def _basis_choice(self, belief: GaussianBasisBelief, cands: np.ndarray) -> int:
+    def _basis_choice(self, belief: GaussianBasisBelief, pos: np.ndarray, cands: np.ndarray) -> int:
         """Infotaxis on a Gaussian-basis belief: eq. (5) with the entropies of eq. (12)."""
-        joint, p_found, _ = belief.outcomes(cands, eta=self._single["eta"])
+        d = cands - pos
+        joint, p_found, _ = belief.outcomes(cands, eta=self._single["eta"], courses=np.arctan2(d[:, 1], d[:, 0]))
         P = joint.sum(axis=-1)
         rho = P / np.maximum(P.sum(axis=0, keepdims=True), 1e-300)
         S = belief.entropy()
@@ -493,16 +500,17 @@ class VoIInfotaxis(Strategy):
         return int(np.flatnonzero(s <= np.min(s) + TIE)[0])
 
     @staticmethod
-    def _event_loglik(belief, obs: Observation) -> np.ndarray:
-        """Log-likelihood of event `obs` for each hypothesis of `belief`."""
+    def _event_loglik(belief, obs: Observation, course: float | None) -> np.ndarray:
+        """Log-likelihood of event `obs` (taken along `course`) for each hypothesis of `belief`."""
         if isinstance(belief, GaussianBasisBelief):
-            return belief.log_likelihood(obs)
+            return belief.log_likelihood(obs, course)
         return belief._loglik(float(obs.value), belief.mean_counts(np.asarray(obs.position)[None])[0])
 
-    def value_of_information(self, belief, obs: Observation) -> float:
-        """``P(z at r) · KL(posterior || prior)`` of event `obs` for `belief` (nats)."""
+    def value_of_information(self, belief, obs: Observation, course: float | None = None) -> float:
+        """``P(z at r) · KL(posterior || prior)`` of event `obs` (taken along `course`, rad,
+        for a directional sensor) for `belief` (nats)."""
         w = belief.weights()
-        ll = self._event_loglik(belief, obs)
+        ll = self._event_loglik(belief, obs, course)
         lik = np.exp(ll - np.max(ll))
         pz_scaled = w @ lik
         if pz_scaled <= 0:
@@ -512,36 +520,59 @@ class VoIInfotaxis(Strategy):
         kl = float(np.sum(post[nz] * np.log(post[nz] / w[nz])))
         return float(pz_scaled * np.exp(np.max(ll))) * kl
 
-    def _observe_own(self, own: PlumeSearch, observations, intent) -> None:
+    def _update(self, belief, obs: Observation, course: float | None) -> None:
+        if course is None:
+            belief.update(obs)
+        else:
+            belief.update(obs, course)
+
+    def _observe_own(self, own: PlumeSearch, observations, intent, courses) -> None:
         """The searcher's own readings; with ``own="voi"`` a hit it judges of too little
         value moves it on without entering its belief (papers/001, Remark 3)."""
-        if self.setup["own"] == "all":
+        if self.setup["own"] == "all" and self.sense is None:
             own.observe(observations, intent, 0)
             return
-        for obs in observations:
-            if obs.value <= 0 or self.value_of_information(own.belief, obs) >= self.threshold:
-                own.belief.update(obs)
+        for obs, course in zip(observations, courses):
+            if (self.setup["own"] == "all" or obs.value <= 0
+                    or self.value_of_information(own.belief, obs, course) >= self.threshold):
+                self._update(own.belief, obs, course)
             own.n_measurements += 1
             own.n_samples += 1
             own.pos = np.asarray(obs.position, dtype=float).copy()
         own.heading = own._next_heading
         own._record()
 
+    def _courses(self, agent: int, observations) -> list:
+        """The course of `agent` into the place of each of `observations` (rad): the
+        direction of that move, or its last course where it stayed; all None without a
+        directional sensor."""
+        if self.sense is None:
+            return [None] * len(observations)
+        out, prev = [], self.searchers[agent].pos
+        for obs in observations:
+            d = np.asarray(obs.position, dtype=float) - prev
+            if np.hypot(*d) > 0:
+                self.courses[agent] = float(np.arctan2(d[1], d[0]))
+            out.append(self.courses[agent])
+            prev = np.asarray(obs.position, dtype=float)
+        return out
+
     def observe(self, observations, intent, agent: int = 0) -> None:
-        self._observe_own(self.searchers[agent], observations, intent)
+        courses = self._courses(agent, observations)
+        self._observe_own(self.searchers[agent], observations, intent, courses)
         self.n_measurements += len(observations)
         self.n_samples += len(observations)
-        for obs in observations if self.share != "none" else ():
+        for obs, course in zip(observations, courses) if self.share != "none" else ():
             takers = []
             for k, s in enumerate(self.searchers):
                 if k == agent:
                     continue
-                if self.share == "all" or self.value_of_information(s.belief, obs) >= self.threshold:
+                if self.share == "all" or self.value_of_information(s.belief, obs, course) >= self.threshold:
                     takers.append(k)
             if takers:
                 self.ctx.messages.send(obs.time, agent, takers, "observation", 1)
                 for k in takers:
-                    self.searchers[k].belief.update(obs)
+                    self._update(self.searchers[k].belief, obs, course)
                     self.n_shared[k] += 1
         self._update_status()
 

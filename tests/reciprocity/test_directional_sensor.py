@@ -46,3 +46,46 @@ def test_without_flow_the_sensor_has_no_direction():
 def test_unknown_sense_is_refused():
     with pytest.raises(ValueError, match="sense must be one of toward, printed"):
         directional_rate([[0.0, 0.0]], [0.0], [[1.0, 1.0]], P, sense="backward")
+
+
+# -- the world and its wiring -------------------------------------------------------------
+from dataclasses import replace  # noqa: E402
+
+from reciprocity.api import run  # noqa: E402
+from reciprocity.errors import SearchError  # noqa: E402
+from reciprocity.scenarios import from_dict, load_scenario  # noqa: E402
+
+
+def test_the_directional_world_reads_more_facing_the_source():
+    """Mean hits over n reads, facing the source and facing away, differ as eq. (14) says
+    (margin: 5 standard errors of the difference)."""
+    w = load_scenario("hajieghrary-directional").build_world(0)
+    at, n = w.sources[0] - [6.0, 0.0], 4000
+    rng = np.random.default_rng(0)
+    facing = np.mean([w.read(at, time=0, dwell=1, rng=rng, course=0.0).value for _ in range(n)])
+    away = np.mean([w.read(at, time=0, dwell=1, rng=rng, course=np.pi).value for _ in range(n)])
+    exact = [directional_rate(at[None], [c], w.sources, w.truth)[0, 0] for c in (0.0, np.pi)]
+    se = np.sqrt((exact[0] + exact[1]) / n)
+    assert abs((facing - away) - (exact[0] - exact[1])) < 5 * se and exact[0] > exact[1]
+    with pytest.raises(SearchError, match="needs the observer's course"):
+        w.read(at, time=0, dwell=1, rng=rng)
+
+
+def test_the_team_runs_in_the_directional_world_and_the_default_world_has_no_direction():
+    sc = replace(load_scenario("hajieghrary-directional"), max_steps=3)
+    ep = run(sc, "voi", seed=0, params=dict(preset="paper", basis=40, share="all"))
+    assert ep.summary["steps"] == 3
+    assert load_scenario("hajieghrary").build_world(0).sense is None
+    with pytest.raises(SearchError, match="needs belief='gaussian-basis'"):
+        run(sc, "voi", seed=0, params=dict(particles=100))
+
+
+@pytest.mark.parametrize("keys, match", [
+    (dict(sensor="funnel"), "plume sensor must be one of isotropic, directional"),
+    (dict(sense="toward"), "plume sense applies only with sensor: directional"),
+    (dict(sensor="directional", sense="sideways"), "plume sense must be one of toward, printed"),
+])
+def test_bad_sensor_keys_are_refused(keys, match):
+    base = dict(world="plume", bounds=[0, 50, 0, 50], source=[25, 25], platform="walker", motion="reach")
+    with pytest.raises(SearchError, match=match):
+        from_dict({**base, **keys}, "bad")

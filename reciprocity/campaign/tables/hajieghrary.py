@@ -139,17 +139,27 @@ HAJIEGHRARY_FIG1 = register(PaperTable(
 #: Numbers of Gaussian basis functions of ``hajieghrary-basis`` (the paper: 100 to 300).
 BASIS_COUNTS = (100, 300)
 
+def _basis_spec(scenario: str):
+    return lambda runs: {"strategies": {"voi": {"preset": "paper", "basis": list(BASIS_COUNTS),
+                                                "share": list(_SHARES)}},
+                         "scenarios": [scenario], "seeds": runs}
+
+
 HAJIEGHRARY_BASIS = register(PaperTable(
     name="hajieghrary-basis",
     title="three searchers with the paper's Gaussian basis belief: number of basis functions × "
           "sharing rule (search time, success, messages)",
     reference="Hajieghrary, Mox & Hsieh (2017), Secs. 3.2, 4.1 (Figs. 5, 7: 100 and 300 functions)",
-    build_spec=lambda runs: {"strategies": {"voi": {"preset": "paper", "basis": list(BASIS_COUNTS),
-                                                    "share": list(_SHARES)}},
-                             "scenarios": ["hajieghrary"], "seeds": runs},
+    build_spec=_basis_spec("hajieghrary"),
     paper=_sweep("basis", BASIS_COUNTS, "basis functions"),
     default_runs=20,
     note="voi with preset='paper' (basis functions scattered at random, pose variance 2, own "
          "hits filtered by value of information, Remark 3). The paper shows trajectories, no "
          "numbers ('–').",
+    protocols={"directional": (
+        _basis_spec("hajieghrary-directional"),
+        "Protocol 'directional': the same teams with the paper's directional sensor (eq. (14), "
+        "read as its words say: more hits facing the source), in the world and in every belief. "
+        "The paper uses it for one robot (its Fig. 3) and the oil-spill run (Fig. 9), not for "
+        "the team comparison (Fig. 7: 'independent of the bearing'); no numbers ('–').")},
 ))
