@@ -194,11 +194,13 @@ class GaussianBasisBelief(Belief):
         tot = W.sum(axis=1, keepdims=True)
         W = W / np.where(tot > 0, tot, 1.0)
         s2 = self.variance
+        # ratios to g, so that a mean where the mixture underflows (a component of weight
+        # 0 far from the others) gives finite terms, which its zero weight then drops
         g = np.maximum(W @ self._N.T, 1e-300)                        # g(μ_i)
-        gx, gy = -(W @ self._Ndx.T) / s2, -(W @ self._Ndy.T) / s2      # ∇g(μ_i)
-        lap = (W @ self._Nd2.T) / s2 ** 2 - 2.0 * g / s2               # tr ∇²g(μ_i)
-        tr = s2 * (lap / g - (gx * gx + gy * gy) / g ** 2)             # tr(∇² log g · C)
-        H = -np.sum(W * (np.log(g) + 0.5 * tr), axis=1)
+        rx, ry = -(W @ self._Ndx.T) / (s2 * g), -(W @ self._Ndy.T) / (s2 * g)   # ∇g / g
+        lap = (W @ self._Nd2.T) / (s2 ** 2 * g) - 2.0 / s2             # tr ∇²g / g
+        tr = s2 * (lap - (rx * rx + ry * ry))                          # tr(∇² log g · C)
+        H = -np.sum(np.where(W > 0, W * (np.log(g) + 0.5 * tr), 0.0), axis=1)
         return np.where(tot[:, 0] > 0, H, 0.0).reshape(shape)
 
     def entropy(self) -> float:

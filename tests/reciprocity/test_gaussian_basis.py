@@ -97,3 +97,11 @@ def test_the_search_going_on_rules_out_the_found_disc():
     b = belief([[100.0, 100.0], [150.0, 150.0]], width=0.5, pose_variance=0.0, found_radius=2.0)
     b.update(hits([100.0, 100.0], 0))
     assert b.weights()[0] < 1e-3     # the disc holds all but exp(-8) of it
+
+
+def test_entropy_stays_finite_when_the_mixture_underflows_at_a_mean():
+    """A weight vector on one far corner leaves g(μ) = 0 at the other means: the entropy is
+    that of the one Gaussian, not NaN."""
+    b = belief([[5.0, 5.0], [195.0, 195.0], [100.0, 20.0]], width=1.0, pose_variance=0.0)
+    for w in ([1.0, 0.0, 0.0], [1.0, 1e-320, 0.0]):
+        assert b.entropies(np.array(w)) == pytest.approx(np.log(2 * np.pi * np.e), rel=1e-9)
