@@ -23,7 +23,7 @@ from __future__ import annotations
 from ..paper_table import PaperTable, PaperValue, register
 
 __all__ = ["HAJIEGHRARY_VOI", "HAJIEGHRARY_MISLEADING", "HAJIEGHRARY_FIG1", "HAJIEGHRARY_BASIS",
-           "MISLEADING_WORLDS", "FIG1_PARTICLES", "BASIS_COUNTS"]
+           "MISLEADING_WORLDS", "FIG1_PARTICLES", "BASIS_COUNTS", "EVERY_STEP"]
 
 _TEAMS = (("infotaxis", "1 searcher"), ("voi[share=all]", "3, share all"),
           ("voi[share=voi]", "3, share by VoI"))
@@ -101,9 +101,16 @@ def _sweep(axis: str, counts, what: str) -> tuple[PaperValue, ...]:
 FIG1_PARTICLES = (1000, 3000, 10000, 19000)
 
 
-def _fig1_spec(rejuvenate: bool):
-    return lambda runs: {"strategies": {"voi": {"rejuvenate": rejuvenate, "particles": list(FIG1_PARTICLES),
-                                                "share": list(_SHARES)}},
+#: ``--protocol every-step``: resample whenever the weights are not all equal, i.e. after
+#: every reading (eq. (6) of the paper: "a hypothesis that survived the re-sampling
+#: procedure of the previous step").
+EVERY_STEP = 0.9999
+
+
+def _fig1_spec(rejuvenate: bool, resample_below: float | None = None):
+    extra = {} if resample_below is None else {"resample_below": resample_below}
+    return lambda runs: {"strategies": {"voi": {"rejuvenate": rejuvenate, **extra,
+                                                "particles": list(FIG1_PARTICLES), "share": list(_SHARES)}},
                          "scenarios": ["hajieghrary"], "seeds": runs}
 
 
@@ -133,7 +140,13 @@ HAJIEGHRARY_FIG1 = register(PaperTable(
         _fig1_spec(True),
         "Protocol 'rejuvenated': the same sweep with one Metropolis-Hastings move per "
         "particle after each resampling (our particle filter): the control for particle "
-        "depletion, the cause the paper names.")},
+        "depletion, the cause the paper names."),
+        "every-step": (
+        _fig1_spec(False, EVERY_STEP),
+        "Protocol 'every-step': the paper's particle filter resampling after every reading "
+        "(its eq. (6): each hypothesis 'survived the re-sampling procedure of the previous "
+        "step'), particles never moved; the paper prints one number, no success at 1.8 and "
+        "1.9 × 10⁴ particles when the three share every event.")},
 ))
 
 #: Numbers of Gaussian basis functions of ``hajieghrary-basis`` (the paper: 100 to 300).
