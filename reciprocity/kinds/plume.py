@@ -26,6 +26,8 @@ Parameters (all optional except ``bounds`` and ``source``)::
     mismatch: {rate_factor: 1.5}  # truth differs from the nominal model
     sensors: [{}, {gain: 0}]      # observer k's sensor fault (truth; no strategy is told):
                                   # gain, false_rate (hits per unit time), fails_at (time)
+    sensor: directional           # isotropic (default) | directional: eq. (14) of
+    sense: toward                 # papers/001, read "toward" (its words) or "printed"
 
 ``source: drawn`` is otto's protocol (Loisy & Eloy 2022): the observer starts at the
 centre cell of the grid after a forced first hit ``h0 >= 1`` (drawn as otto draws it,
@@ -49,6 +51,7 @@ from scipy.special import k0
 from ..errors import SearchError
 from ..scenarios import WorldKind, check_keys, register_world
 from ..validation import MAX_AGENTS, MAX_CELLS, MAX_COORD, Bound, point, starts_in_box, whole
+from ..models.directional import SENSES
 from ..worlds.plume import FORMS, PlumeMismatch, PlumeParams, PlumeWorld, SensorFault, plume_length
 from .sources import source_list, source_strengths
 
@@ -57,8 +60,10 @@ __all__ = ["PLUME", "PLUME_KEYS", "hit_probabilities", "otto_max_hits", "otto_in
 #: Parameters of a ``plume`` scenario.
 PLUME_KEYS = ("bounds", "source", "rate", "a", "D", "tau", "V", "wind_direction", "form", "dt",
               "found_radius", "motion", "step", "max_turn", "n_turns", "moves", "max_hits",
-              "initial_hit", "mismatch", "sensors", "sources", "strengths", "max_sources")
+              "initial_hit", "mismatch", "sensors", "sources", "strengths", "max_sources", "sensor", "sense")
 MOTIONS = ("turn", "grid", "reach")
+#: Sensors of a plume world: without direction, or eq. (14) of papers/001.
+SENSORS = ("isotropic", "directional")
 
 
 def hit_probabilities(mu: np.ndarray, max_hits: int | None, kmax: int) -> np.ndarray:
@@ -141,6 +146,15 @@ def _check(params: dict) -> dict:
     moves = params.get("moves", 4)
     if moves not in (4, 8):
         raise SearchError(f"plume moves must be 4 or 8; got {moves!r}")
+    sensor = params.get("sensor", "isotropic")
+    if sensor not in SENSORS:
+        raise SearchError(f"plume sensor must be one of {', '.join(SENSORS)}; got {sensor!r}")
+    if params.get("sense") is not None and sensor != "directional":
+        raise SearchError("plume sense applies only with sensor: directional")
+    if sensor == "directional":                 # keys added only then: other worlds stay as they were
+        out["sense"] = params.get("sense") or "toward"
+        if out["sense"] not in SENSES:
+            raise SearchError(f"plume sense must be one of {', '.join(SENSES)}; got {out['sense']!r}")
     sources = _sources(params, out["bounds"])
     src = params.get("source") if sources is None else sources[0]
     if src == "drawn":
@@ -227,6 +241,8 @@ def _build(params: dict, rng: np.random.Generator) -> PlumeWorld:
     extra = dict(motion=motion, step=params["step"], dt=params["dt"], max_turn=params["max_turn"],
                  n_turns=n_turns, turns=tuple(float(t) for t in turns), moves=params.get("moves", 4), max_hits=max_hits,
                  initial_hit=None)
+    if params.get("sense") is not None:
+        extra["sense"] = params["sense"]           # the directional sensor: public, as the model
     if motion == "grid":
         extra["space"] = _grid_space(params)       # the places and moves (otto's grid)
     else:
@@ -250,7 +266,8 @@ def _build(params: dict, rng: np.random.Generator) -> PlumeWorld:
     return PlumeWorld(params["bounds"], source, p, mismatch=params["mismatch"],
                       found_radius=params["found_radius"], grid=grid, nominal_extra=extra,
                       sensors=params.get("sensors", ()), sources=params.get("sources"),
-                      strengths=params.get("strengths"), max_sources=params.get("max_sources"))
+                      strengths=params.get("strengths"), max_sources=params.get("max_sources"),
+                      sense=params.get("sense"))
 
 
 def _default_start(world: PlumeWorld, rng: np.random.Generator) -> np.ndarray:

@@ -84,7 +84,9 @@ class WalkerPlatform(Platform):
             # the walker reports where it was sent (it does not know it slipped)
             self.pose = np.array([target[0], target[1], heading % (2 * np.pi)])
             self.last_route.append(self._true.copy())
-        r = self.world.read(self._true, time=self.time, dwell=self.dt, rng=self.rng, observer=self.agent)
+        # a directional sensor reads by the course just taken (papers/001, eq. (14))
+        course = dict(course=float(self.pose[2])) if getattr(self.world, "sense", None) else {}
+        r = self.world.read(self._true, time=self.time, dwell=self.dt, rng=self.rng, observer=self.agent, **course)
         obs = Observation(self.pose[:2].copy(), r.value, self.time, self.dt, r.kind, r.saturated,
                           self.agent, r.data)
         self.time += self.dt

@@ -41,6 +41,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..beliefs.base import MIN_PARTICLES, posterior_entropies
+from ..beliefs.gaussian_basis import GaussianBasisBelief, basis_width
 from ..beliefs.particles import ParticleBelief, grid_particles
 from ..spaces.walker import candidate_moves, turn_inward
 from ..errors import SearchError
@@ -353,7 +354,7 @@ class SpaceAwareInfotaxis(PlumeSearch):
 class VoIInfotaxis(Strategy):
     """Multi-searcher infotaxis with shared readings (Hajieghrary, Mox & Hsieh 2017).
 
-    Every searcher keeps its own particle belief and takes infotaxis moves on it. Each
+    Every searcher keeps its own belief and takes infotaxis moves on it. Each
     reading is an event ``(r, z)``; with ``share="all"`` every event goes to every other
     searcher (Section 3.3.1); with ``share="voi"`` a searcher incorporates a teammate's
     event only when its value of information passes `threshold` (Section 3.3.2); with
@@ -370,25 +371,78 @@ class VoIInfotaxis(Strategy):
     threshold : float
         VoI threshold (nats).
     particles, resample_below, mcmc_steps, eta
-        As for :class:`PlumeSearch`.
+        As for :class:`PlumeSearch` (the particle belief).
+    belief : {"particles", "gaussian-basis"}
+        Each searcher's belief: the particle cloud of :class:`PlumeSearch`, or the
+        paper's fixed Gaussian basis functions (its Sections 3.1-3.2,
+        :class:`~reciprocity.beliefs.gaussian_basis.GaussianBasisBelief`), scored with
+        the mixture entropy of its eq. (12).
+    basis : int
+        Number of Gaussian basis functions (papers/001: 100 to 300), scattered at random.
+    width : float, optional
+        Standard deviation of a basis function (length unit); default
+        :func:`~reciprocity.beliefs.gaussian_basis.basis_width`, half the mean spacing.
+    pose_variance : float
+        The robot's position variance per axis (length²) in the pose-uncertainty mixture
+        (papers/001, Section 3.1; ``Σ = 2 I`` in its Section 4).
+    own : {"all", "voi"}
+        ``"all"``: a searcher always takes its own readings; ``"voi"``: its own hits pass
+        the same value-of-information test as a teammate's (papers/001, Remark 3: "a
+        robot does not always contribute its own positive sensor detection").
+    rejuvenate : bool
+        Particle belief only: Metropolis-Hastings moves after each resampling (True, as
+        :class:`PlumeSearch`), or plain resampling (False: the paper's particle filter,
+        in which hypotheses are only ever eliminated, its Remark 1).
+    preset : {None, "paper"}
+        ``"paper"``: the paper's own set-up, ``belief="gaussian-basis"``, ``basis=300``
+        (its Fig. 7), ``pose_variance=2``, ``own="voi"``; parameters given explicitly
+        win over the preset.
     """
 
     name = "voi"
     worlds = ("plume",)
     agents = None
+    #: The paper's set-up (``preset="paper"``).
+    PAPER = dict(belief="gaussian-basis", basis=300, pose_variance=2.0, own="voi")
+    _DEFAULTS = dict(belief="particles", basis=300, width=None, pose_variance=2.0, own="all", rejuvenate=True)
 
     def __init__(self, *, share: str = "voi", threshold: float = 0.01, particles: int = 600,
-                 resample_below: float = 1 / 3, mcmc_steps: int = 1, eta: float = 1e-3):
+                 resample_below: float = 1 / 3, mcmc_steps: int = 1, eta: float = 1e-3,
+                 belief: str | None = None, basis: int | None = None, width: float | None = None,
+                 pose_variance: float | None = None, own: str | None = None, rejuvenate: bool | None = None,
+                 preset: str | None = None):
         if share not in ("all", "voi", "none"):
             raise SearchError(f"share must be 'all', 'voi' or 'none'; got {share!r}")
+        if preset not in (None, "paper"):
+            raise SearchError(f"preset must be 'paper' or not given; got {preset!r}")
         self.share = share
         self.threshold = positive(threshold, "threshold")
         self._single = dict(particles=particles, resample_below=resample_below, mcmc_steps=mcmc_steps, eta=eta)
         Infotaxis(**self._single)          # validates the shared parameters
+        given = dict(belief=belief, basis=basis, width=width, pose_variance=pose_variance, own=own,
+                     rejuvenate=rejuvenate)
+        chosen = {**self._DEFAULTS, **(self.PAPER if preset == "paper" else {}),
+                  **{k: v for k, v in given.items() if v is not None}}
+        if chosen["belief"] not in ("particles", "gaussian-basis"):
+            raise SearchError(f"belief must be 'particles' or 'gaussian-basis'; got {chosen['belief']!r}")
+        if chosen["own"] not in ("all", "voi"):
+            raise SearchError(f"own must be 'all' or 'voi'; got {chosen['own']!r}")
+        if not isinstance(chosen["rejuvenate"], bool):
+            raise SearchError(f"rejuvenate must be true or false; got {chosen['rejuvenate']!r}")
+        chosen["basis"] = positive(chosen["basis"], "basis", integer=True)
+        if chosen["basis"] < MIN_PARTICLES:
+            raise SearchError(f"basis must be at least {MIN_PARTICLES} (the paper uses 100 to 300); "
+                              f"got {chosen['basis']!r}")
+        if chosen["width"] is not None:
+            chosen["width"] = positive(chosen["width"], "width")
+        chosen["pose_variance"] = number(chosen["pose_variance"], "pose_variance", 0.0, 1e6)
+        self.preset = preset
+        self.setup = chosen
         super().__init__()
 
     def params(self) -> dict:
-        return dict(self._single, share=self.share, threshold=self.threshold)
+        extra = {k: v for k, v in self.setup.items() if v != self._DEFAULTS[k]}
+        return dict(self._single, share=self.share, threshold=self.threshold, **extra)
 
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
@@ -397,19 +451,66 @@ class VoIInfotaxis(Strategy):
         for k in range(ctx.n_agents):
             sub = Infotaxis(**self._single)
             sub.start(SearchContext(ctx.world, ctx.nominal, ctx.starts[k:k + 1], ctx.rng, ctx.messages))
+            if self.setup["belief"] == "gaussian-basis":
+                sub.belief = self._basis_belief(ctx)
+                sub.snapshots = []
+                sub._record()
+            elif not self.setup["rejuvenate"]:
+                sub.belief.mcmc_steps = 0
             self.searchers.append(sub)
         self.n_shared = np.zeros(ctx.n_agents, dtype=int)
+        self.sense = ctx.nominal.get("sense")
+        if self.sense is not None and self.setup["belief"] != "gaussian-basis":
+            raise SearchError("a directional plume sensor (papers/001, eq. (14)) needs belief='gaussian-basis'")
+        #: each searcher's course, rad: the heading of its last move (a directional sensor reads by it)
+        self.courses = [float(s.heading) for s in self.searchers]
         self._update_status()
+
+    def _basis_belief(self, ctx: SearchContext) -> GaussianBasisBelief:
+        """A Gaussian-basis belief with means scattered at random over the area."""
+        nom, n = ctx.nominal, self.setup["basis"]
+        (x0, x1), (y0, y1) = nom["bounds"]
+        means = np.column_stack([ctx.rng.uniform(x0, x1, n), ctx.rng.uniform(y0, y1, n)])
+        width = self.setup["width"] if self.setup["width"] is not None else basis_width(nom["bounds"], n)
+        return GaussianBasisBelief(nom["plume"], means, nom["bounds"], width=width,
+                                   pose_variance=self.setup["pose_variance"], dt=nom["dt"],
+                                   found_radius=nom["found_radius"], max_hits=nom.get("max_hits"),
+                                   sense=nom.get("sense"))
 
     def propose(self):
         if self.done:
             return None
-        return {k: s.propose() for k, s in enumerate(self.searchers)}
+        if self.setup["belief"] != "gaussian-basis":
+            return {k: s.propose() for k, s in enumerate(self.searchers)}
+        out = {}
+        for k, s in enumerate(self.searchers):
+            out[k], s._next_heading = walker_proposal(s.nominal, s.pos, s.heading,
+                                                      lambda c, s=s: self._basis_choice(s.belief, s.pos, c))
+        return out
 
-    def value_of_information(self, belief: ParticleBelief, obs: Observation) -> float:
-        """``P(z at r) · KL(posterior || prior)`` of event `obs` for `belief` (nats)."""
+    def _basis_choice(self, belief: GaussianBasisBelief, pos: np.ndarray, cands: np.ndarray) -> int:
+        """Infotaxis on a Gaussian-basis belief: eq. (5) with the entropies of eq. (12)."""
+        d = cands - pos
+        joint, p_found, _ = belief.outcomes(cands, eta=self._single["eta"], courses=np.arctan2(d[:, 1], d[:, 0]))
+        P = joint.sum(axis=-1)
+        rho = P / np.maximum(P.sum(axis=0, keepdims=True), 1e-300)
+        S = belief.entropy()
+        H = belief.entropies(joint)
+        s = p_found * (0.0 - S) + (1.0 - p_found) * np.sum(rho * (H - S), axis=0)
+        return int(np.flatnonzero(s <= np.min(s) + TIE)[0])
+
+    @staticmethod
+    def _event_loglik(belief, obs: Observation, course: float | None) -> np.ndarray:
+        """Log-likelihood of event `obs` (taken along `course`) for each hypothesis of `belief`."""
+        if isinstance(belief, GaussianBasisBelief):
+            return belief.log_likelihood(obs, course)
+        return belief._loglik(float(obs.value), belief.mean_counts(np.asarray(obs.position)[None])[0])
+
+    def value_of_information(self, belief, obs: Observation, course: float | None = None) -> float:
+        """``P(z at r) · KL(posterior || prior)`` of event `obs` (taken along `course`, rad,
+        for a directional sensor) for `belief` (nats)."""
         w = belief.weights()
-        ll = belief._loglik(float(obs.value), belief.mean_counts(np.asarray(obs.position)[None])[0])
+        ll = self._event_loglik(belief, obs, course)
         lik = np.exp(ll - np.max(ll))
         pz_scaled = w @ lik
         if pz_scaled <= 0:
@@ -419,22 +520,59 @@ class VoIInfotaxis(Strategy):
         kl = float(np.sum(post[nz] * np.log(post[nz] / w[nz])))
         return float(pz_scaled * np.exp(np.max(ll))) * kl
 
+    def _update(self, belief, obs: Observation, course: float | None) -> None:
+        if course is None:
+            belief.update(obs)
+        else:
+            belief.update(obs, course)
+
+    def _observe_own(self, own: PlumeSearch, observations, intent, courses) -> None:
+        """The searcher's own readings; with ``own="voi"`` a hit it judges of too little
+        value moves it on without entering its belief (papers/001, Remark 3)."""
+        if self.setup["own"] == "all" and self.sense is None:
+            own.observe(observations, intent, 0)
+            return
+        for obs, course in zip(observations, courses):
+            if (self.setup["own"] == "all" or obs.value <= 0
+                    or self.value_of_information(own.belief, obs, course) >= self.threshold):
+                self._update(own.belief, obs, course)
+            own.n_measurements += 1
+            own.n_samples += 1
+            own.pos = np.asarray(obs.position, dtype=float).copy()
+        own.heading = own._next_heading
+        own._record()
+
+    def _courses(self, agent: int, observations) -> list:
+        """The course of `agent` into the place of each of `observations` (rad): the
+        direction of that move, or its last course where it stayed; all None without a
+        directional sensor."""
+        if self.sense is None:
+            return [None] * len(observations)
+        out, prev = [], self.searchers[agent].pos
+        for obs in observations:
+            d = np.asarray(obs.position, dtype=float) - prev
+            if np.hypot(*d) > 0:
+                self.courses[agent] = float(np.arctan2(d[1], d[0]))
+            out.append(self.courses[agent])
+            prev = np.asarray(obs.position, dtype=float)
+        return out
+
     def observe(self, observations, intent, agent: int = 0) -> None:
-        own = self.searchers[agent]
-        own.observe(observations, intent, 0)
+        courses = self._courses(agent, observations)
+        self._observe_own(self.searchers[agent], observations, intent, courses)
         self.n_measurements += len(observations)
         self.n_samples += len(observations)
-        for obs in observations if self.share != "none" else ():
+        for obs, course in zip(observations, courses) if self.share != "none" else ():
             takers = []
             for k, s in enumerate(self.searchers):
                 if k == agent:
                     continue
-                if self.share == "all" or self.value_of_information(s.belief, obs) >= self.threshold:
+                if self.share == "all" or self.value_of_information(s.belief, obs, course) >= self.threshold:
                     takers.append(k)
             if takers:
                 self.ctx.messages.send(obs.time, agent, takers, "observation", 1)
                 for k in takers:
-                    self.searchers[k].belief.update(obs)
+                    self._update(self.searchers[k].belief, obs, course)
                     self.n_shared[k] += 1
         self._update_status()
 

@@ -32,6 +32,10 @@ The world can differ from what a strategy is told (:class:`PlumeMismatch`: the t
 wind, diffusivity and lifetime as multiples of the nominal ones), and each observer's
 sensor can be faulty (:class:`SensorFault`: a gain, false alarms, a failure time), which
 no strategy is told either.
+
+A directional sensor (``sensor="directional"``, Hajieghrary, Mox & Hsieh 2017, eq. (14),
+:mod:`reciprocity.models.directional`) reads at a rate that depends on the observer's
+course just before the reading; the platform passes it as ``course``.
 """
 
 from __future__ import annotations
@@ -41,6 +45,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..errors import SearchError
+from ..models.directional import directional_rate
 from ..models.plume import FORMS, PlumeParams, plume_length, plume_rate
 from ..validation import number
 from .base import Reading, World, source_set
@@ -167,13 +172,20 @@ class PlumeWorld(World):
         The task's public bound on the number of sources (default 1 with `source`,
         MAX_SOURCES with `sources`): part of what a strategy is told, never the number of
         sources itself.
+    sense : {None, "toward", "printed"}
+        None: the sensor has no direction; else the directional sensor of eq. (14) of
+        papers/001 read in that sense (:data:`reciprocity.models.directional.SENSES`),
+        at the course the platform passes to :meth:`read`.
     """
 
     kind = "plume"
 
     def __init__(self, bounds, source, params: PlumeParams, *, mismatch: PlumeMismatch | None = None,
                  found_radius: float = 1.0, grid: float | None = None, nominal_extra: dict | None = None,
-                 sensors=(), sources=None, strengths=None, max_sources: int | None = None):
+                 sensors=(), sources=None, strengths=None, max_sources: int | None = None,
+                 sense: str | None = None):
+        #: the directional sensor's sense (None: no direction)
+        self.sense = sense
         self.bounds = tuple(tuple(float(v) for v in b) for b in bounds)
         self.sources, given, self.max_sources = source_set("plume", source, sources, strengths, params.rate,
                                                            max_sources, each="release rate")
@@ -196,8 +208,17 @@ class PlumeWorld(World):
         the sources' rates (independent releases)."""
         return plume_rate(at, self.sources, self.truth) @ self._weights
 
-    def read(self, position, *, time, dwell, rng, observer: int = 0) -> Reading:
-        mu = float(self.rate(np.asarray(position, dtype=float)[None])[0]) * float(dwell)
+    def read(self, position, *, time, dwell, rng, observer: int = 0, course: float | None = None) -> Reading:
+        """Poisson hits over the dwell; `course` (rad) is the observer's heading just before
+        the reading, used by a directional sensor only (required by it)."""
+        at = np.asarray(position, dtype=float)[None]
+        if self.sense is None:
+            mu = float(self.rate(at)[0]) * float(dwell)
+        else:
+            if course is None:
+                raise SearchError("a directional plume sensor needs the observer's course")
+            rates = directional_rate(at, [course], self.sources, self.truth, self.sense)[0]
+            mu = float(rates @ self._weights) * float(dwell)
         if observer < len(self.sensors):
             mu = self.sensors[observer].mean(mu, time=float(time), dwell=float(dwell))
         return Reading(float(rng.poisson(mu)), False, "hits")
