@@ -66,9 +66,8 @@ def expected_renyi_divergence(joint: np.ndarray, weights: np.ndarray, near: np.n
     w = np.asarray(weights, dtype=float)
     p_found = np.clip(np.where(near, w[None, :], 0.0).sum(axis=1), 0.0, 1.0)          # (m,)
     rho, _, P = posterior_entropies(joint)                                            # (K+1, m)
-    off = np.maximum(1.0 - p_found, 1e-300)
-    # q_i / w_i = (w'_i / w_i) p(z|i) / P_z = p(z|i) / (P_z (1 - P_f)) off the zone, 0 on it
-    ratio = joint / np.maximum(w, 1e-300)[None, None, :] / (np.maximum(P, 1e-300)[..., None] * off[None, :, None])
+    # q_i / w_i = w'_i p(z|i) / (w_i P_z): joint / (w P_z), 0 on the zone
+    ratio = joint / np.maximum(w, 1e-300)[None, None, :] / np.maximum(P, 1e-300)[..., None]
     inner = np.einsum("i,zmi->zm", w, ratio ** alpha)
     d_count = np.log(np.maximum(inner, 1e-300)) / (alpha - 1.0)
     d_found = -np.log(np.maximum(p_found, 1e-300))
