@@ -34,6 +34,8 @@ STRATEGIES: LazyRegistry = LazyRegistry(__name__, {
     "detection-infotaxis": "DetectionInfotaxis",
     "reciprocity-wind": "WindReciprocity",
     "free-space-wind": "FreeSpaceWind",
+    "infotaxis-ii": "InfotaxisII",
+    "infotaxis-iii": "InfotaxisIII",
 })
 
 
@@ -59,6 +61,7 @@ __getattr__, _, _ = _lazy.attach(__name__, submod_attrs={
     "rbpf": ["RBPFInfotaxisStrategy", "RBPFStrategy"],
     "reciprocal": ["ReciprocityStrategy"],
     "wind_reciprocity": ["FreeSpaceWind", "WindReciprocity"],
+    "reward_infotaxis": ["InfotaxisII", "InfotaxisIII"],
 })
 
 __all__ = ["GradientStrategy", "MAX_REJECTIONS", "RandomWalkStrategy", "ReciprocityStrategy",

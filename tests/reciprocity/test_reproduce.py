@@ -48,8 +48,9 @@ def test_the_papers_numbers_and_settings():
         "A0 = 8": 0.78, "A0 = 12": 0.94, "A0 = 16": 0.93}
     assert t1.default_runs == t2.default_runs == 100
     song = TABLES["song2019-table1"].spec(1)
-    assert all(s.world == {"max_turn": 30} for s in song.scenarios) and len(song.scenarios) == 6
-    assert "±30°" in TABLES["song2019-table1"].note
+    assert all(s.world == {"max_turn": 3} for s in song.scenarios) and len(song.scenarios) == 6
+    assert "±3°" in TABLES["song2019-table1"].note
+    assert all(s.world == {"max_turn": 30} for s in TABLES["song2019-table1"].protocol("turn30").spec(1).scenarios)
     half = TABLES["song2019-table1-halfstep"]
     spec = half.spec(1)
     assert [s.label for s in spec.scenarios] == [f"song-{L}.halfstep" for L in (100, 150, 200, 250, 300, 350)]
@@ -214,7 +215,7 @@ def test_rows_run_the_same_episodes_as_the_whole_table():
     part = table.rows("song-100")
     assert {v.scenario for v in part.paper} == {"song-100"} and len(part.paper) < len(table.paper)
     tasks = {(t.episode_id, t.seed) for t in part.spec(3).tasks()}
-    assert len(tasks) == 4 * 3 and tasks <= whole                     # four strategies, three seeds
+    assert len(tasks) == 6 * 3 and tasks <= whole                     # six strategies, three seeds
     both = table.rows("song-100,free-energy")                         # union of what each names
     assert {(v.variant, v.scenario) for v in both.paper} >= {("free-energy", "song-350"), ("infotaxis", "song-100")}
     assert TABLES["ristic2014-table1"].rows("(0, 7)").paper[0].label == "(0, 7)"   # a label with a comma
