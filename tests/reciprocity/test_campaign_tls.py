@@ -11,6 +11,9 @@ from reciprocity.errors import SearchError
 
 #: A safety net against a hung openssl (it takes well under a second), not a speed check.
 OPENSSL_HANG_S = 600
+#: How long the refused client waits to connect (s): a refusal comes at once, this only
+#: bounds the wait, generous enough that a busy machine still sees the refusal itself.
+REFUSED_CONNECT_S = 10
 
 SPEC = """\
 seeds: 2
@@ -91,7 +94,7 @@ def test_a_client_without_a_certificate_of_the_ca_is_refused(tmp_path, pki, tls_
     spec = load_spec(_write(tmp_path, SPEC))
     cert, key = pki["stranger"]
     with pytest.raises(SearchError, match="TLS handshake .* failed"):
-        run_campaign(spec, tmp_path / "a", scheduler=tls_scheduler, progress=False, timeout=2,
+        run_campaign(spec, tmp_path / "a", scheduler=tls_scheduler, progress=False, timeout=REFUSED_CONNECT_S,
                      tls=TLSFiles(pki["ca"], cert, key))
     with pytest.raises(SearchError, match="needs TLS files"):
         run_campaign(spec, tmp_path / "b", scheduler=tls_scheduler, progress=False)
