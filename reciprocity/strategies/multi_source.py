@@ -31,9 +31,17 @@ again on the readings less the others' fields, within CONFIRM_RADIUS of its esti
 one whose region has not converged there is located again (the search measures around it
 as it did the first time) and its estimate replaced.
 
-**Explained readings.** The found sources' strengths are refitted on all readings by
-non-negative least squares after each new source, and each position is re-imaged on the
-readings less the others' fields (within REFINE_RADIUS of its estimate). Their predicted
+**Explained readings.** Once two sources are found, after each reading and each new
+source, the found sources are settled together (:meth:`SourceBook.settle`): their
+strengths are refitted on all readings by non-negative least squares, and each position is
+re-imaged on the readings less the others' fields (within REFINE_RADIUS of where its
+region converged), in turn, until no estimate moves SETTLE_TOL (at most SETTLE_ROUNDS
+rounds). One source alone is not settled: on readings that a second, not yet found,
+source also explains, it would drift toward that source. A position found early, on readings that a
+source not yet found distorted, is thus corrected by the readings that came after. A found
+source that explains no reading is dropped: one whose removal raises the readings' χ²
+(weighted as the residual maps weight it) by less than ``2 LOG_DETECT``, the likelihood
+ratio a further source needs at the least. Their predicted
 readings carry a relative error RESIDUAL_ERROR, added in quadrature to the noise: a
 found source misplaced by 1 cm leaves residuals of about a tenth of its reading 5 cm
 away, which would otherwise look like a second source beside it. A further source is
@@ -47,7 +55,8 @@ import numpy as np
 from ..imaging import ImagingMap
 
 __all__ = ["SourceBook", "RESIDUAL_ERROR", "LOG_DETECT", "EXTRA_STRENGTH",
-           "MIN_SEPARATION", "WALL_MARGIN", "REFINE_RADIUS", "CONFIRM_RADIUS", "spread_of"]
+           "MIN_SEPARATION", "WALL_MARGIN", "REFINE_RADIUS", "CONFIRM_RADIUS", "SETTLE_TOL",
+           "SETTLE_ROUNDS", "spread_of"]
 
 #: Relative error of a found source's predicted reading (see the module doc).
 RESIDUAL_ERROR = 0.15
@@ -66,6 +75,10 @@ WALL_MARGIN = 3.0
 REFINE_RADIUS = 8.0
 #: Radius (cm) around a found source within which it is confirmed.
 CONFIRM_RADIUS = 15.0
+#: Settling the found sources stops when no estimate moves more than this (cm) in a round.
+SETTLE_TOL = 0.05
+#: At most this many rounds of settling.
+SETTLE_ROUNDS = 8
 
 
 class SourceBook:
@@ -90,11 +103,14 @@ class SourceBook:
         self.max_sources = int(max_sources)
         self.inner = np.asarray(wall_distance) >= WALL_MARGIN
         self.found: list[np.ndarray] = []
+        self.anchors: list[np.ndarray] = []     # where each found source's region converged
         self.strengths = np.empty(0)
         self.spread: list[float] = []
         self.located = False        # the active map holds evidence of a further source
         self.confirming: int | None = None   # the found source being located again
         self.confirmed: set[int] = set()
+        self.dropped = 0            # found sources dropped by :meth:`settle` (explaining no reading)
+        self.relocated = 0          # found sources moved by :meth:`settle` beyond their region
         self._active = raw
         self._prior = raw         # the residual map under the strength prior (the Bayes factor's)
 
@@ -116,8 +132,11 @@ class SourceBook:
         return bool(self.found) and not self.located and self.confirming is None
 
     def add(self, obs) -> ImagingMap:
-        """Add a reading (an Observation) and return the active map brought up to date."""
+        """Add a reading (an Observation) and return the active map brought up to date:
+        the found sources settled on every reading (unless one is being located again)."""
         self.raw.update(obs)
+        if len(self.found) > 1 and self.confirming is None:
+            self.settle()
         return self._refresh()
 
     def _refresh(self) -> ImagingMap:
@@ -269,23 +288,106 @@ class SourceBook:
         re-image every found source on the readings less the others, and look again."""
         if self.confirming is not None:
             self.found[self.confirming] = np.asarray(estimate, dtype=float).copy()
+            self.anchors[self.confirming] = self.found[self.confirming].copy()
             self.spread[self.confirming] = float(spread)
             self.confirming = None
             self._fit_strengths()
+            if len(self.found) > 1:
+                self.settle()
             self._refresh()
             return
         self.found.append(np.asarray(estimate, dtype=float).copy())
+        self.anchors.append(self.found[-1].copy())
         self.spread.append(float(spread))
         self.confirmed.clear()
         self._fit_strengths()
         if len(self.found) > 1:
+            self.settle()
+        self._refresh()
+
+    def settle(self) -> int:
+        """Settle the found sources on every reading: move those the readings place
+        elsewhere (:meth:`_relocate`), re-image each in turn on the
+        readings less the others' fields (within REFINE_RADIUS of where its region
+        converged) and refit
+        the strengths, until no estimate moves SETTLE_TOL cm (at most SETTLE_ROUNDS
+        rounds); then drop the sources that explain no reading (:meth:`_prune`).
+
+        Returns
+        -------
+        int
+            The number of sources dropped.
+        """
+        self._relocate()
+        for _ in range(SETTLE_ROUNDS):
+            moved = 0.0
             for j in range(len(self.found)):
-                im = self.residual_map(skip=j, exclude_near=[s for i, s in enumerate(self.found) if i != j],
-                                       within=(self.found[j], REFINE_RADIUS), own=True)
-                self.found[j] = im.estimate()
+                others = [s for i, s in enumerate(self.found) if i != j]
+                im = self.residual_map(skip=j, exclude_near=others, within=(self.anchors[j], REFINE_RADIUS), own=True)
+                new = im.estimate()
+                moved = max(moved, float(np.hypot(*(new - self.found[j]))))
+                self.found[j] = new
                 self.spread[j] = spread_of(im)
             self._fit_strengths()
-        self._refresh()
+            if moved <= SETTLE_TOL:
+                break
+        return self._prune()
+
+    def _relocate(self) -> int:
+        """Move each found source whose map on the readings less the others' fields, over
+        the whole region, peaks more than REFINE_RADIUS away, where the readings' χ² falls
+        by at least ``2 LOG_DETECT``: its region converged where a source not yet found
+        distorted the readings. It is then no longer confirmed (the search goes to measure
+        it there before it stops). Returns how many moved."""
+        moved = 0
+        for j in range(len(self.found)):
+            others = [s for i, s in enumerate(self.found) if i != j]
+            candidate = self.residual_map(skip=j, exclude_near=others, own=True).estimate()
+            if np.hypot(*(candidate - self.found[j])) <= REFINE_RADIUS:
+                continue
+            if self.chi2(self.found) - self.chi2(others + [candidate]) >= 2.0 * LOG_DETECT:
+                self.found[j], self.anchors[j] = candidate, candidate.copy()
+                self.confirmed.discard(j)
+                self.relocated += 1
+                moved += 1
+        if moved:
+            self._fit_strengths()
+        return moved
+
+    def chi2(self, sources) -> float:
+        """The readings' χ² under `sources` (their strengths refitted by non-negative
+        least squares), each reading weighted as the residual maps weight it: the noise
+        and RESIDUAL_ERROR of the predicted reading in quadrature. Saturated readings are
+        left out."""
+        from scipy.optimize import nnls
+        free = ~self.raw.saturated
+        y = self.raw.readings[free]
+        if len(sources):
+            a = self.couplings(sources)[free]
+            c, _ = nnls(a, y)
+            pred = a @ np.maximum(c, 0.0)
+        else:
+            pred = np.zeros_like(y)
+        noise = self.raw.sigma / np.sqrt(2.0)
+        return float(np.sum((y - pred) ** 2 / (noise ** 2 + (RESIDUAL_ERROR * pred) ** 2)))
+
+    def _prune(self) -> int:
+        """Drop, weakest first, each found source whose removal raises :meth:`chi2` by
+        less than ``2 LOG_DETECT``; one source is always kept."""
+        dropped = 0
+        while len(self.found) > 1:
+            base = self.chi2(self.found)
+            rise = [self.chi2([s for i, s in enumerate(self.found) if i != j]) - base
+                    for j in range(len(self.found))]
+            j = int(np.argmin(rise))
+            if rise[j] >= 2.0 * LOG_DETECT:
+                break
+            del self.found[j], self.anchors[j], self.spread[j]
+            self.confirmed.clear()
+            dropped += 1
+            self._fit_strengths()
+        self.dropped += dropped
+        return dropped
 
     def _fit_strengths(self) -> None:
         """Non-negative least squares of the readings on the found sources' fields (the

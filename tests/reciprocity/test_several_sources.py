@@ -256,3 +256,90 @@ def test_a_saturated_reading_is_evidence_of_a_source_and_is_kept_by_the_residual
     book.accept(np.array([70.0, 66.0]), 1.0)
     active = book.add(Observation((120.0, 20.0), 374.6, saturated=True))
     assert active.n == 2 and active.saturated.tolist() == [False, True]
+
+
+# -- settling the found sources ----------------------------------------------------------
+def _two_source_book():
+    """A book with readings of two sources of 850 (on the strategy's own solver, so the
+    readings are exact and only the estimates can be wrong)."""
+    from reciprocity.observations import Observation
+    from reciprocity.strategies.multi_source import SourceBook
+    solver = r.GreenSolver(arenas.load("paper"), h=3.0)
+    truth = np.array([[52.3, 32.5], [124.6, 21.0]])
+    u = [solver.field(s, 850.0) for s in truth]
+    raw = r.ImagingMap(solver, 2.5 * np.sqrt(2.0), strength=850.0, combine="product")
+    book = SourceBook(raw, 850.0, 4, solver.arena.wall_distance(raw.nodes))
+    points = [(69.0, 23.0), (52.0, 36.0), (45.0, 35.0), (121.0, 15.0), (114.0, 14.0), (126.0, 26.0),
+              (118.0, 30.0), (60.0, 40.0)]
+    return book, truth, [Observation(p, float(u[0]([p])[0] + u[1]([p])[0])) for p in points]
+
+
+def test_settling_corrects_a_position_found_before_the_readings_that_show_it_wrong():
+    """A source accepted 5 cm off (its region converged on readings the other source
+    distorted) is moved back by the readings taken since: the search does not stop on a
+    stale estimate."""
+    book, truth, obs = _two_source_book()
+    for o in obs[:3]:
+        book.add(o)
+    book.accept(truth[0] + (0.5, 0.0), 1.0)
+    for o in obs[3:5]:
+        book.add(o)
+    book.accept(truth[1] + (3.0, 4.0), 1.0)                  # 5 cm off
+    assert np.hypot(*(book.found[1] - truth[1])) < 1.5       # settled at once
+    book.found[1] = truth[1] + (3.0, 4.0)                    # and stale again ...
+    book.add(obs[5])                                         # ... until the next reading
+    err = [float(np.min(np.hypot(*(truth - f).T))) for f in book.found]
+    assert len(book.found) == 2 and max(err) < 1.5, err
+    assert book.strengths == pytest.approx([850.0, 850.0], rel=0.1)
+
+
+def test_settling_drops_a_found_source_that_explains_no_reading():
+    """A phantom third source (weak, beside a wall, where no reading needs it) is dropped;
+    a real one never is: removing it would raise the readings' chi2 by thousands."""
+    book, truth, obs = _two_source_book()
+    for o in obs:
+        book.add(o)
+    book.found = [truth[0].copy(), truth[1].copy(), np.array([100.0, 90.0])]
+    book.anchors = [f.copy() for f in book.found]
+    book.spread = [1.0, 1.0, 1.0]
+    book._fit_strengths()
+    assert book.settle() == 1 and book.dropped == 1
+    assert len(book.found) == 2 and len(book.spread) == 2 and len(book.strengths) == 2
+    assert book.chi2(book.found[:1]) - book.chi2(book.found) > 100.0
+    assert book.settle() == 0                                  # the real ones stay
+    single = book.found[:1]
+    book.found, book.anchors, book.spread = [single[0]], [single[0].copy()], [1.0]
+    book._fit_strengths()
+    assert book.settle() == 0 and len(book.found) == 1         # one source is always kept
+
+
+def test_one_source_found_of_two_stays_where_its_region_converged():
+    """Alone, a found source is not settled: on readings the second source also explains
+    it would drift toward that one (and the search would never look for it)."""
+    book, truth, obs = _two_source_book()
+    for o in obs[:3]:
+        book.add(o)
+    book.accept(truth[0] + (0.5, 0.0), 1.0)
+    for o in obs[3:]:
+        book.add(o)                                          # readings of the second source
+    assert len(book.found) == 1 and np.hypot(*(book.found[0] - truth[0] - (0.5, 0.0))) < 1e-9
+
+
+def test_a_source_found_where_the_readings_do_not_put_it_is_moved_and_confirmed_again():
+    """A source accepted 17 cm from where it is (beyond the window of settling), where the
+    readings' chi2 says decisively that it lies elsewhere, moves there and loses its
+    confirmation; sources where the readings put them never move."""
+    book, truth, obs = _two_source_book()
+    for o in obs:
+        book.add(o)
+    book.found = [truth[0] + (0.0, 17.0), truth[1].copy()]
+    book.anchors = [f.copy() for f in book.found]
+    book.spread = [1.0, 1.0]
+    book.confirmed = {0, 1}
+    book._fit_strengths()
+    book.settle()
+    err = [float(np.min(np.hypot(*(truth - f).T))) for f in book.found]
+    assert book.relocated == 1 and max(err) < 1.5, err
+    assert book.confirmed == {1}
+    book.settle()
+    assert book.relocated == 1                                  # settled: nothing moves again
