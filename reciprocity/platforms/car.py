@@ -59,6 +59,24 @@ SWEEP_MARGIN = 0.5
 #: from them, its clearance from the true walls on average.
 SCANNED_BIAS_CELLS = 0.5
 
+#: Inside the clearance band the car turns its motion away from the wall until it leaves
+#: at a slope (sine of the angle to the wall) of at least 0.05 + depth / 4 cm, and at most
+#: this: the steering law of the band's edge cannot see drift deeper into it.
+BAND_EXIT_SLOPE = 0.3
+
+#: The car keeps its body at least this far (cm) from the walls of its map where its
+#: steering can: the planner's clearance disc leaves a corner turned toward a wall no
+#: margin (the half-diagonal of the 7 x 3.8 cm body is 3.98 cm).
+BODY_MARGIN = 0.5
+#: How far ahead (cm of driving) the body's distance to the walls is foreseen.
+BODY_LOOKAHEAD = 2.0
+#: Where a path changes gear within this many cm of driving, the car changes gear at once
+#: when every command in the present gear would bring its body within BODY_MARGIN of a wall
+#: (the planner's cusp lies where the disc of the clearance touches the band's edge).
+CUSP_SLACK = 3.0
+#: Where along each side of the body its distance to the walls is taken (0: the corner).
+BODY_SIDE_SAMPLES = (0.0, 0.25, 0.5, 0.75)
+
 #: Six bang-bang actions (steer, direction): left / straight / right x forward / reverse.
 ACTIONS = tuple((u, v) for v in (1, -1) for u in (1, 0, -1))
 
@@ -419,7 +437,11 @@ class CarPlatform(Platform):
                     continue
                 since_plan, plan_s = 0.0, 0.0
             ends, gears = gear_at
-            v = int(gears[min(np.searchsorted(ends, plan_s, side="right"), len(gears) - 1)])
+            stretch = min(np.searchsorted(ends, plan_s, side="right"), len(gears) - 1)
+            v = int(gears[stretch])
+            if stretch + 1 < len(gears) and ends[stretch] - plan_s <= CUSP_SLACK and self._boxed_in(v):
+                plan_s = float(ends[stretch])              # change gear now: the cusp is here
+                v = int(gears[stretch + 1])
             new_est = self._tick(self._steer(vf, est, v), v)
             driven += step
             self._since_scan += step
@@ -588,13 +610,9 @@ class CarPlatform(Platform):
         est = np.asarray(est, dtype=float)
         if np.isfinite(vf(*est)):
             return est.copy()
-        e = 0.05
-        probes = est[:2] + e * np.array([[1, 0], [-1, 0], [0, 1], [0, -1]])
-        d = self.arena.wall_distance(probes)
-        normal = np.array([d[0] - d[1], d[2] - d[3]])
-        if not np.hypot(*normal) > 0:
+        normal = self._wall_normal(est[:2])
+        if normal is None:
             return est.copy()
-        normal /= np.hypot(*normal)
         for shift in np.arange(0.25, 3.01, 0.25):
             moved = np.array([est[0] + shift * normal[0], est[1] + shift * normal[1], est[2]])
             if np.isfinite(vf(*moved)):
@@ -620,8 +638,79 @@ class CarPlatform(Platform):
 
     def _steer(self, vf, est: np.ndarray, v: int) -> float:
         """Eq. (15) for gear v: ``u = -v sign(φ_θ)``, straight inside the dead band (the
-        planner's one steering law, :func:`hjplanner.steering`)."""
-        return float(steering(vf, est, self.dead_band, direction=v))
+        planner's one steering law, :func:`hjplanner.steering`), at the pose `est` the
+        controller steers from (:meth:`_virtual`), with two guards the law cannot give:
+
+        - Inside the clearance band the law steers from the band's edge, where the
+          optimal path runs along the wall, and so cannot see drift that takes the car
+          deeper in: there the car turns its motion away from the wall until it leaves
+          the band at least at BAND_EXIT_SLOPE (steeper the deeper it is).
+        - The planner keeps the car's centre `clearance` from the walls, a disc as wide
+          as the body's half-diagonal: a corner turned toward a wall has no margin left.
+          Where the law's command would bring the body within BODY_MARGIN of a wall in
+          the next BODY_LOOKAHEAD of driving, the command that keeps it farthest is
+          taken instead.
+        """
+        u = float(steering(vf, est, self.dead_band, direction=v))
+        here = self.testbed.estimate
+        u = self._out_of_band(here, u, v)
+        return self._keep_body_off(here, u, v)
+
+    def _out_of_band(self, here: np.ndarray, u: float, v: int) -> float:
+        """`u`, or the turn that takes the motion out of the clearance band (see :meth:`_steer`)."""
+        depth = self._clearance() - float(self.arena.wall_distance(here[None, :2])[0])
+        if depth <= 0.0:
+            return u
+        normal = self._wall_normal(here[:2])
+        if normal is None:
+            return u
+        motion = v * np.array([np.cos(here[2]), np.sin(here[2])])
+        side = 1.0 if motion[0] * normal[1] - motion[1] * normal[0] >= 0.0 else -1.0  # +1: away is left
+        # the motion turns at v u / rho (counter-clockwise positive), away from the wall
+        # when v u has the sign of `side`
+        if float(motion @ normal) < min(BAND_EXIT_SLOPE, 0.05 + depth / 4.0) and v * u * side <= 0.0:
+            return float(v * side)
+        return u
+
+    def _keep_body_off(self, here: np.ndarray, u: float, v: int) -> float:
+        """`u`, or the command that keeps the body farther from the walls (see :meth:`_steer`)."""
+        now = self._body_gap(here)
+        if now >= BODY_MARGIN + BODY_LOOKAHEAD:
+            return u                # no command can close the gap within the look-ahead
+        rho = self.testbed.spec.rho
+        ahead = {c: self._body_gap(dead_reckon(here, c, v, BODY_LOOKAHEAD, rho)) for c in (u, -1.0, 0.0, 1.0)}
+        if ahead[u] >= BODY_MARGIN or ahead[u] >= now:
+            return u
+        best = max(ahead, key=ahead.get)
+        return best if ahead[best] > ahead[u] else u
+
+    def _boxed_in(self, v: int) -> bool:
+        """Whether every command in gear `v` brings the body within BODY_MARGIN of a wall
+        in the next BODY_LOOKAHEAD of driving, closer than it is."""
+        here = self.testbed.estimate
+        now = self._body_gap(here)
+        if now >= BODY_MARGIN + BODY_LOOKAHEAD:
+            return False
+        rho = self.testbed.spec.rho
+        return all(self._body_gap(dead_reckon(here, c, v, BODY_LOOKAHEAD, rho)) < min(BODY_MARGIN, now)
+                   for c in (-1.0, 0.0, 1.0))
+
+    def _body_gap(self, pose: np.ndarray) -> float:
+        """The distance (cm) from the car's body at `pose` to the nearest wall of its map,
+        over the corners and along the sides of the body."""
+        spec = self.testbed.spec
+        corners = car_footprint(pose, spec.length, spec.width)
+        sides = np.concatenate([corners + t * (np.roll(corners, -1, axis=0) - corners) for t in BODY_SIDE_SAMPLES])
+        return float(self.arena.wall_distance(sides).min())
+
+    def _wall_normal(self, xy: np.ndarray) -> np.ndarray | None:
+        """The unit normal pointing away from the nearest wall at `xy` (cm), from the
+        wall distance's differences; None where it has no direction."""
+        e = 0.05
+        d = self.arena.wall_distance(xy + e * np.array([[1, 0], [-1, 0], [0, 1], [0, -1]]))
+        normal = np.array([d[0] - d[1], d[2] - d[3]])
+        size = float(np.hypot(*normal))
+        return normal / size if size > 0 else None
 
     def _unstick(self, vf, attempts: int = 8) -> bool:
         """Drift brought the estimated pose where φ = inf (inside the clearance band, or

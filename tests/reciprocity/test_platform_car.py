@@ -7,6 +7,7 @@ import pytest
 
 import arenas
 import reciprocity as r
+from hjplanner import steering
 from reciprocity.platforms.car import CarPlatform, DrivingOptions, make_car_platform
 from reciprocity.errors import UnreachableTarget
 from reciprocity.intents import Measure, SampleGradient, StepToward
@@ -213,3 +214,23 @@ def test_window_falls_back_to_the_whole_map_behind_a_long_wall():
     assert "window" not in around.meta
     car.execute(Measure(np.array([75.0, 15.0])))
     assert np.hypot(*(car.testbed.car.pose[:2] - (75.0, 15.0))) < car.options.stop_tol + 1.5
+
+
+@pytest.mark.parametrize("heading, gear", [(0.09, -1), (np.pi - 0.09, -1), (-0.09, 1), (np.pi + 0.09, 1)])
+def test_drift_into_the_clearance_band_is_steered_out_of(platform, world, heading, gear):
+    """2.6 cm from the bottom wall (inside the 4 cm band), moving into it at 5°: the law
+    of eq. (15) steers from the band's edge, where the path runs along the wall, and would
+    hold the course into the wall; the car turns away from the wall instead."""
+    platform.reset([30.0, 8.0, 0.0], world, np.random.default_rng(0))
+    vf = platform._plan(np.array([30.0, 50.0]))
+    platform.testbed.estimate = np.array([30.0, 2.6, heading])
+    est = platform._virtual(vf, platform.testbed.estimate)
+    u = platform._steer(vf, est, gear)
+    motion = gear * np.array([np.cos(heading), np.sin(heading)])
+    assert motion[1] < 0                                       # into the wall ...
+    turned = heading + gear * u * 0.2                          # ... and turning out of it
+    assert gear * np.sin(turned) > motion[1] and u != 0
+    # out of the band, the law alone
+    platform.testbed.estimate = np.array([30.0, 8.0, heading])
+    assert platform._steer(vf, platform.testbed.estimate, gear) == steering(
+        vf, platform.testbed.estimate, platform.dead_band, direction=gear)
