@@ -2,9 +2,10 @@
 
 A usage error is one ``error:`` line on stderr naming the option, the value and what is
 allowed, and exit status 2, before any work (as the ``reciprocity`` console script does).
-The ``type=`` checkers here (:func:`whole`, :func:`number`, :func:`among`, :func:`listed`) refuse a bad
-value while the command line is parsed; :meth:`Parser.output_folder` and
-:meth:`Parser.resumable_csv` check an output after it.
+The ``type=`` checkers here (:func:`whole`, :func:`number`, :func:`among`, :func:`listed`)
+refuse a bad value while the command line is parsed; :meth:`Parser.parse_resumable` adds
+``--minutes`` and ``--out`` to a script whose runs append to a CSV and checks that folder
+and that CSV (:meth:`Parser.output_folder`, :meth:`Parser.resumable_csv`) after it.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from __future__ import annotations
 import argparse
 import csv
 import math
+import os
 import stat
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -20,13 +22,45 @@ from pathlib import Path
 class Parser(argparse.ArgumentParser):
     """argparse, but a usage error is one line on stderr and exit status 2."""
 
+    @classmethod
+    def of(cls, script: str, doc: str) -> "Parser":
+        """The parser of the script at path `script` (its ``__file__``), described by the
+        first line of its docstring `doc`."""
+        return cls(prog=Path(script).name, description=doc.splitlines()[0])
+
     def error(self, message: str):
         self.exit(2, f"error: {message} (see `{self.prog} --help`)\n")
 
-    def add_minutes(self) -> None:
-        """Add ``--minutes``: a time budget, after which no new run starts."""
+    def parse_resumable(self, argv: list[str] | None, out: str, csv_name: str, columns: Iterable[str],
+                        holds: str = "") -> argparse.Namespace:
+        """Add ``--minutes`` and ``--out``, parse `argv` and check the outputs.
+
+        Parameters
+        ----------
+        argv : list of str or None
+            The command line (None: ``sys.argv``).
+        out : str
+            The default output folder.
+        csv_name : str
+            The CSV in it that runs append to (see :meth:`resumable_csv`).
+        columns : iterable of str
+            Its columns, in order.
+        holds : str
+            What else the folder holds, for the help (e.g. ``", fig5.png"``).
+
+        Returns
+        -------
+        argparse.Namespace
+            With ``out`` the folder (a Path) and ``csv`` the CSV's path.
+        """
         self.add_argument("--minutes", type=number(0, low_open=True), default=None,
                           help="start no new run after this many minutes (a rerun resumes)")
+        self.add_argument("--out", default=out,
+                          help=f"folder for {csv_name} (appended to: a rerun resumes){holds}")
+        args = self.parse_args(argv)
+        args.out = self.output_folder(args.out)
+        args.csv = self.resumable_csv(args.out / csv_name, columns)
+        return args
 
     def output_folder(self, path: str | Path, label: str = "--out") -> Path:
         """`path` as a folder that can be made and written (nothing is created yet).
@@ -92,13 +126,18 @@ class Parser(argparse.ArgumentParser):
             what = "a symbolic link" if stat.S_ISLNK(mode) else "not a file"
             self.error(f"{label}: {str(path)!r} is {what}; the results are appended to a real file "
                        "(remove it, or give another folder)")
+        if not os.access(path, os.R_OK | os.W_OK):
+            self.error(f"{label}: {str(path)!r} cannot be read and appended to; give another folder")
         if path.stat().st_size == 0:                 # made, then cut before its header
             return path
-        with path.open(newline="") as f:
-            header = next(csv.reader(f), [])
-        with path.open("rb") as f:
-            f.seek(-1, 2)
-            last = f.read(1)
+        try:
+            with path.open(newline="") as f:
+                header = next(csv.reader(f), [])
+            with path.open("rb") as f:
+                f.seek(-1, 2)
+                last = f.read(1)
+        except (OSError, UnicodeDecodeError, csv.Error) as exc:
+            self.error(f"{label}: {str(path)!r} cannot be read as a CSV ({exc}); give another folder")
         if header != list(columns):
             self.error(f"{label}: {str(path)!r} has the columns {header}, not this script's {list(columns)}; "
                        "give another folder to start afresh")

@@ -1,11 +1,13 @@
-"""A CSV of benchmark rows written as episodes finish, that a second run resumes; the
-strategy parameters a script takes as ``--set KEY=VALUE``."""
+"""A CSV of benchmark rows written as episodes finish, that a second run resumes
+(:func:`resume` runs what it lacks and reads it back); the strategy parameters a script
+takes as ``--set KEY=VALUE``."""
 
 from __future__ import annotations
 
 import csv
 import io
 import time
+from collections.abc import Callable, Hashable
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -20,7 +22,7 @@ def done_keys(out: Path, key) -> set:
 
 @contextmanager
 def appending(out: Path, fields: list[str]):
-    """A ``csv.DictWriter`` appending to `out` (header written when the file is new); flush
+    """A ``csv.DictWriter`` appending to `out` (header written when the file is new or empty); flush
     the file after each row with ``writer.file.flush()``."""
     out.parent.mkdir(parents=True, exist_ok=True)
     new = not out.exists() or out.stat().st_size == 0
@@ -35,7 +37,9 @@ def appending(out: Path, fields: list[str]):
 
 def append_rows(writer, rows: list[dict]) -> None:
     """Append `rows` (one episode's, say) to the file of :func:`appending`'s `writer` in
-    one write and flush it, so that an interruption leaves all of them or none."""
+    one write and flush it, so that an interruption between episodes leaves none of the
+    next one's rows (one inside the write may cut the last row, which
+    ``arguments.Parser.resumable_csv`` refuses)."""
     buf = io.StringIO(newline="")
     csv.DictWriter(buf, writer.fieldnames).writerows(rows)
     writer.file.write(buf.getvalue())
@@ -54,7 +58,9 @@ def truth(text: str) -> bool:
     return text == "True"
 
 
-def resume(out: Path, types: dict, keys: list, key, rows_of, minutes: float | None = None) -> list[dict]:
+def resume(out: Path, types: dict[str, Callable[[str], object]], keys: list[Hashable],
+           key: Callable[[dict], Hashable], rows_of: Callable[[Hashable], list[dict]],
+           minutes: float | None = None, mapper: Callable = map) -> list[dict]:
     """Append to `out` the rows of every run of `keys` not yet there, in order, until
     `minutes` have passed; then the rows of `out` of all the runs of `keys`.
 
@@ -71,7 +77,11 @@ def resume(out: Path, types: dict, keys: list, key, rows_of, minutes: float | No
     rows_of : callable
         ``rows_of(k)``: the rows of the run `k`, appended in one write.
     minutes : float or None
-        Start no new run after this many minutes (None: no limit).
+        Start no new run after this many minutes (None: no limit); with a pool's `mapper`,
+        take no more results (the runs under way are lost with the pool).
+    mapper : callable
+        ``mapper(rows_of, keys)`` yields the rows of each run in the order of `keys`:
+        ``map``, or a pool's ``imap`` to run them in parallel (`rows_of` then picklable).
 
     Returns
     -------
@@ -82,12 +92,12 @@ def resume(out: Path, types: dict, keys: list, key, rows_of, minutes: float | No
     todo = [k for k in keys if k not in done]
     expired = deadline(minutes)
     with appending(out, list(types)) as w:
-        for i, k in enumerate(todo):
-            if expired():
-                print(f"stopped after {minutes:g} min with {len(todo) - i} runs left; rerun with the same "
+        for i, rows in enumerate(mapper(rows_of, todo)):
+            append_rows(w, rows)
+            if expired() and i + 1 < len(todo):
+                print(f"stopped after {minutes:g} min with {len(todo) - i - 1} runs left; rerun with the same "
                       "output to resume", flush=True)
                 break
-            append_rows(w, rows_of(k))
     asked = set(keys)
     return [r for r in read_rows(out, types) if key(r) in asked]
 

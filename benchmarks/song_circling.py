@@ -93,7 +93,7 @@ def run(strategy: str, side: int, seed: int, last: int, radius: float, max_steps
 
 def parse(argv=None) -> argparse.Namespace:
     """The checked command line (exit 2 with one ``error:`` line on a bad one)."""
-    ap = Parser(description=__doc__.splitlines()[0])
+    ap = Parser.of(__file__, __doc__)
     ap.add_argument("--seeds", type=whole(1), default=10, help="runs per strategy and side")
     ap.add_argument("--sides", type=listed(among(SONG_SCALES, int)), default=[100],
                     help=f"area sides, comma-separated, among {', '.join(map(str, SONG_SCALES))}")
@@ -104,13 +104,7 @@ def parse(argv=None) -> argparse.Namespace:
                     help="'near the estimate' radius (length unit)")
     ap.add_argument("--max-steps", type=whole(1, MAX_STEPS), default=None,
                     help="step cap of a run (default: the scenario's)")
-    ap.add_minutes()
-    ap.add_argument("--out", default="runs/song_circling",
-                    help="folder for circling.csv (appended to: a rerun resumes)")
-    args = ap.parse_args(argv)
-    args.out = ap.output_folder(args.out)
-    args.csv = ap.resumable_csv(args.out / "circling.csv", COLUMNS)
-    return args
+    return ap.parse_resumable(argv, "runs/song_circling", "circling.csv", COLUMNS)
 
 
 def main(argv=None) -> list[dict]:

@@ -112,15 +112,10 @@ def figure(rows: list[dict], path: Path) -> None:
 
 def parse(argv=None) -> argparse.Namespace:
     """The checked command line (exit 2 with one ``error:`` line on a bad one)."""
-    ap = Parser(description=__doc__.splitlines()[0])
+    ap = Parser.of(__file__, __doc__)
     ap.add_argument("--seeds", type=whole(1), default=10, help="runs per strategy")
     ap.add_argument("--max-steps", type=whole(1, MAX_STEPS), default=6000, help="step cap of a run")
-    ap.add_minutes()
-    ap.add_argument("--out", default="runs/song_fig5",
-                    help="folder for fig5.csv (appended to: a rerun resumes) and fig5.png")
-    args = ap.parse_args(argv)
-    args.out = ap.output_folder(args.out)
-    args.csv = ap.resumable_csv(args.out / "fig5.csv", COLUMNS)
+    args = ap.parse_resumable(argv, "runs/song_fig5", "fig5.csv", COLUMNS, " and fig5.png")
     args.png = ap.output_file(args.out / "fig5.png")
     return args
 

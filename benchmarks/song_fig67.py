@@ -145,7 +145,7 @@ def record_path(out: Path, temperature: float) -> Path:
 
 def parse(argv=None) -> argparse.Namespace:
     """The checked command line (exit 2 with one ``error:`` line on a bad one)."""
-    ap = Parser(description=__doc__.splitlines()[0])
+    ap = Parser.of(__file__, __doc__)
     ap.add_argument("--seeds", type=whole(1), default=5, help="runs per temperature")
     ap.add_argument("--temperatures", type=listed(number(0)), default=list(TEMPERATURES),
                     help="temperatures T ≥ 0, comma-separated (the paper's: 0 and 1e4)")
@@ -153,13 +153,8 @@ def parse(argv=None) -> argparse.Namespace:
     ap.add_argument("--last", type=whole(1), default=500, help="final steps measured for self-trapping")
     ap.add_argument("--radius", type=number(0, low_open=True), default=25.0,
                     help="'near the estimate' radius (length unit)")
-    ap.add_minutes()
-    ap.add_argument("--out", default="runs/song_fig67",
-                    help="folder for fig67.csv (appended to: a rerun resumes), fig67.png and seed 0's "
-                         "runs drawn in it (fig67_seed0_T<T>.json)")
-    args = ap.parse_args(argv)
-    args.out = ap.output_folder(args.out)
-    args.csv = ap.resumable_csv(args.out / "fig67.csv", COLUMNS)
+    args = ap.parse_resumable(argv, "runs/song_fig67", "fig67.csv", COLUMNS,
+                              ", fig67.png and seed 0's runs drawn in it (fig67_seed0_T<T>.json)")
     args.png = ap.output_file(args.out / "fig67.png")
     for t in args.temperatures:
         ap.output_file(record_path(args.out, t))
