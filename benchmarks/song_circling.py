@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
+
 from arguments import Parser, among, listed, number, whole
 from resumable import resume, truth
 

@@ -29,11 +29,11 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+
 from arguments import Parser, whole
 from resumable import resume, truth
 
 from arenas.files import atomic_output
-
 from reciprocity.env import SearchEnv, rollout
 from reciprocity.scenarios import MAX_STEPS, load_scenario
 from reciprocity.strategies import STRATEGIES

@@ -26,11 +26,11 @@ import json
 from pathlib import Path
 
 import numpy as np
+
 from arguments import Parser, listed, number, whole
 from resumable import resume, truth
 
 from arenas.files import atomic_output
-
 from reciprocity.beliefs.base import posterior_entropies
 from reciprocity.env import SearchEnv, rollout
 from reciprocity.scenarios import MAX_STEPS, load_scenario

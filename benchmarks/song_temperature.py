@@ -34,6 +34,7 @@ import argparse
 from multiprocessing import Pool
 
 import numpy as np
+
 from arguments import Parser, among, listed, number, whole
 from resumable import resume, truth
 
