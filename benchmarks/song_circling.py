@@ -14,25 +14,33 @@ the walker's closest approach to the true source, and, over its last `--last` st
 
 A walker that turns 3° every unit step goes round a circle of radius
 ``1 / (2 sin 1.5°) ≈ 19.1``, against the found radius R_s = 3: one that keeps turning
-at the limit about its estimate never enters R_s. Results: ``docs/papers/song2019.md``.
+at the limit about its estimate never enters R_s.
+
+Rows are appended as runs end, and a rerun with the same ``--out`` resumes: it runs only
+what ``circling.csv`` lacks, then prints from all the rows asked for; ``--minutes M``
+starts no new run after M minutes and ``--max-steps N`` caps a run at N steps (default:
+the scenario's). Results: ``docs/papers/song2019.md``.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
-from pathlib import Path
 
 import numpy as np
 
-from reciprocity.campaign.tables.song2019 import SONG_MAX_TURN, SONG_TABLE1
+from arguments import Parser, among, listed, number, whole
+from resumable import resume, truth
+
+from reciprocity.campaign.tables.song2019 import SONG_MAX_TURN, SONG_SCALES, SONG_TABLE1
 from reciprocity.env import SearchEnv, rollout
+from reciprocity.scenarios import MAX_STEPS, load_scenario
 from reciprocity.strategies import STRATEGIES
 from reciprocity.strategies.agent import StrategyAgent
 
-#: CSV columns, one row per run.
-COLUMNS = ("strategy", "side", "seed", "success", "steps", "error", "closest_approach",
-           "near_estimate", "at_max_turn", "orbit_radius", "orbit_to_source")
+#: CSV columns, one row per run, and how each is read back.
+TYPES = dict(strategy=str, side=int, seed=int, success=truth, steps=int, error=float, closest_approach=float,
+             near_estimate=float, at_max_turn=float, orbit_radius=float, orbit_to_source=float)
+COLUMNS = tuple(TYPES)
 
 
 def circling(trace: list[dict], source, max_turn_deg: float, last: int, radius: float) -> dict:
@@ -72,10 +80,11 @@ def circling(trace: list[dict], source, max_turn_deg: float, last: int, radius: 
         orbit_to_source=float(np.hypot(*(centre - src))))
 
 
-def run(strategy: str, side: int, seed: int, last: int, radius: float) -> dict:
-    """One run at the printed turns; its CSV row."""
-    env = SearchEnv(f"song-{side}", world={"max_turn": SONG_MAX_TURN})
-    episode = rollout(env, StrategyAgent(STRATEGIES[strategy], {}), seed)
+def run(strategy: str, side: int, seed: int, last: int, radius: float, max_steps: int | None = None) -> dict:
+    """One run at the printed turns, capped at `max_steps` (None: the scenario's cap); its
+    CSV row."""
+    sc = load_scenario(f"song-{side}").with_world({"max_turn": SONG_MAX_TURN}).with_limits(max_steps=max_steps)
+    episode = rollout(SearchEnv(sc), StrategyAgent(STRATEGIES[strategy], {}), seed)
     s = episode.summary
     row = dict(strategy=strategy, side=side, seed=seed, success=bool(s["success"]), steps=int(s["steps"]),
                error=float(s["error"]))
@@ -83,28 +92,30 @@ def run(strategy: str, side: int, seed: int, last: int, radius: float) -> dict:
     return row
 
 
+def parse(argv=None) -> argparse.Namespace:
+    """The checked command line (exit 2 with one ``error:`` line on a bad one)."""
+    ap = Parser.of(__file__, __doc__)
+    ap.add_argument("--seeds", type=whole(1), default=10, help="runs per strategy and side")
+    ap.add_argument("--sides", type=listed(among(SONG_SCALES, int)), default=[100],
+                    help=f"area sides, comma-separated, among {', '.join(map(str, SONG_SCALES))}")
+    ap.add_argument("--strategies", type=listed(among(SONG_TABLE1)), default=list(SONG_TABLE1),
+                    help="strategies of song2019-table1, comma-separated (default: all six)")
+    ap.add_argument("--last", type=whole(1), default=500, help="final steps measured")
+    ap.add_argument("--radius", type=number(0, low_open=True), default=25.0,
+                    help="'near the estimate' radius (length unit)")
+    ap.add_argument("--max-steps", type=whole(1, MAX_STEPS), default=None,
+                    help="step cap of a run (default: the scenario's)")
+    return ap.parse_resumable(argv, "runs/song_circling", "circling.csv", COLUMNS)
+
+
 def main(argv=None) -> list[dict]:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=int, default=10, help="runs per strategy and side")
-    ap.add_argument("--sides", default="100", help="area sides, comma-separated")
-    ap.add_argument("--strategies", default=",".join(SONG_TABLE1))
-    ap.add_argument("--last", type=int, default=500, help="final steps measured")
-    ap.add_argument("--radius", type=float, default=25.0, help="'near the estimate' radius")
-    ap.add_argument("--out", default="runs/song_circling", help="folder for circling.csv")
-    args = ap.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    rows = []
-    with open(out / "circling.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, COLUMNS)
-        writer.writeheader()
-        for side in (int(s) for s in args.sides.split(",")):
-            for strategy in args.strategies.split(","):
-                for seed in range(args.seeds):
-                    row = run(strategy, side, seed, args.last, args.radius)
-                    writer.writerow(row)
-                    fh.flush()
-                    rows.append(row)
+    """Run what ``circling.csv`` does not hold yet, then print from all its rows of the
+    seeds, sides and strategies asked for; those rows."""
+    args = parse(argv)
+    keys = [(strategy, side, seed) for seed in range(args.seeds) for side in args.sides
+            for strategy in args.strategies]
+    rows = resume(args.csv, TYPES, keys, lambda r: (r["strategy"], r["side"], r["seed"]),
+                  lambda k: [run(*k, args.last, args.radius, args.max_steps)], args.minutes)
     summarise(rows)
     return rows
 

@@ -17,20 +17,25 @@ from the source. The figure (``fig5.png``):
   strategy (the paper: the distance falls as the spread contracts, faster with free
   energy).
 
-The script prints the found runs and the binned medians of (b). Results:
-``docs/papers/song2019.md``.
+The script prints the found runs and the binned medians of (b). Rows are appended as
+runs end, and a rerun with the same ``--out`` resumes: it runs only what the CSV lacks,
+then draws and prints from all the rows asked for; ``--minutes M`` starts no new run
+after M minutes. Results: ``docs/papers/song2019.md``.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
 from pathlib import Path
 
 import numpy as np
 
+from arguments import Parser, whole
+from resumable import resume, truth
+
+from arenas.files import atomic_output
 from reciprocity.env import SearchEnv, rollout
-from reciprocity.scenarios import load_scenario
+from reciprocity.scenarios import MAX_STEPS, load_scenario
 from reciprocity.strategies import STRATEGIES
 from reciprocity.strategies.agent import StrategyAgent
 
@@ -39,8 +44,10 @@ FIG5_WORLD = {"bounds": [-300, 300, -150, 150], "source": [-250, 0], "start": [2
               "max_turn": 3}
 #: Strategies compared in Fig. 5(b).
 FIG5_STRATEGIES = ("infotaxis", "free-energy")
-#: CSV columns, one row per step.
-COLUMNS = ("strategy", "seed", "success", "step", "spread", "estimate_distance", "sensor_distance")
+#: CSV columns, one row per step, and how each is read back.
+TYPES = dict(strategy=str, seed=int, success=truth, step=int, spread=float, estimate_distance=float,
+             sensor_distance=float)
+COLUMNS = tuple(TYPES)
 #: Bin edges of tr(Σ) for panel (b) and the printed medians, length².
 SPREAD_BINS = np.geomspace(1.0, 1e5, 11)
 
@@ -100,28 +107,28 @@ def figure(rows: list[dict], path: Path) -> None:
     ax_b.set_ylabel("distance of the sensor from the source")
     ax_b.set_title("(b) sensor against the spread: median, quartiles")
     ax_b.legend()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, format="png")
+
+
+def parse(argv=None) -> argparse.Namespace:
+    """The checked command line (exit 2 with one ``error:`` line on a bad one)."""
+    ap = Parser.of(__file__, __doc__)
+    ap.add_argument("--seeds", type=whole(1), default=10, help="runs per strategy")
+    ap.add_argument("--max-steps", type=whole(1, MAX_STEPS), default=6000, help="step cap of a run")
+    args = ap.parse_resumable(argv, "runs/song_fig5", "fig5.csv", COLUMNS, " and fig5.png")
+    args.png = ap.output_file(args.out / "fig5.png")
+    return args
 
 
 def main(argv=None) -> list[dict]:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=int, default=10, help="runs per strategy")
-    ap.add_argument("--max-steps", type=int, default=6000, help="step cap of a run")
-    ap.add_argument("--out", default="runs/song_fig5", help="folder for fig5.csv and fig5.png")
-    args = ap.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    rows = []
-    with open(out / "fig5.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, COLUMNS)
-        writer.writeheader()
-        for strategy in FIG5_STRATEGIES:
-            for seed in range(args.seeds):
-                mine = run(strategy, seed, args.max_steps)
-                writer.writerows(mine)
-                fh.flush()
-                rows += mine
-    figure(rows, out / "fig5.png")
+    """Run the seeds not yet in ``fig5.csv``, then draw and print from all its rows of
+    the seeds asked for; those rows."""
+    args = parse(argv)
+    keys = [(strategy, seed) for seed in range(args.seeds) for strategy in FIG5_STRATEGIES]
+    rows = resume(args.csv, TYPES, keys, lambda r: (r["strategy"], r["seed"]),
+                  lambda k: run(*k, args.max_steps), args.minutes)
+    with atomic_output(args.png) as tmp:
+        figure(rows, tmp)
     for strategy in FIG5_STRATEGIES:
         runs = {(r["seed"]): (r["success"], r["step"]) for r in rows if r["strategy"] == strategy}
         found = [s for ok, s in runs.values() if ok]

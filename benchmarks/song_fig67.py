@@ -12,21 +12,28 @@ score of a move is ``E_z{W} + T E_z{S}`` (eqs. (8)-(10) with a constant T,
 estimate's distance from the source, the share of the moves on which T changed the
 choice from T = 0's, and the share of the last `--last` steps spent within `--radius` of
 the final estimate (self-trapped). The figure (``fig67.png``) draws seed 0 at each T:
-trajectory, hits, final particles, estimate and source over the mean hit rate.
+trajectory, hits, final particles, estimate and source over the mean hit rate (each
+kept in ``fig67_seed0_T<T>.json`` when it ends). Rows are appended as runs end, and a
+rerun with the same ``--out`` resumes: it runs only what the CSV lacks, then draws and
+prints from all the rows asked for; ``--minutes M`` starts no new run after M minutes.
 Results: ``docs/papers/song2019.md``.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
+import json
 from pathlib import Path
 
 import numpy as np
 
+from arguments import Parser, listed, number, whole
+from resumable import resume, truth
+
+from arenas.files import atomic_output
 from reciprocity.beliefs.base import posterior_entropies
 from reciprocity.env import SearchEnv, rollout
-from reciprocity.scenarios import load_scenario
+from reciprocity.scenarios import MAX_STEPS, load_scenario
 from reciprocity.strategies.agent import StrategyAgent
 from reciprocity.strategies.infotaxis import TIE, FreeEnergyInfotaxis
 
@@ -35,8 +42,10 @@ FIG67_WORLD = {"bounds": [-300, 300, -150, 150], "source": [-250, 100], "start":
                "max_turn": 3}
 #: The two temperatures of Figs. 6 and 7 (``--temperatures`` runs others beside them).
 TEMPERATURES = (0.0, 1e4)
-#: CSV columns, one row per run.
-COLUMNS = ("temperature", "seed", "success", "steps", "error", "decided_by_T", "near_estimate")
+#: CSV columns, one row per run, and how each is read back.
+TYPES = dict(temperature=float, seed=int, success=truth, steps=int, error=float, decided_by_T=float,
+             near_estimate=float)
+COLUMNS = tuple(TYPES)
 
 
 class FixedTemperature(FreeEnergyInfotaxis):
@@ -86,65 +95,95 @@ def run(temperature: float, seed: int, max_steps: int, last: int, radius: float,
     return row, episode
 
 
-def figure(episodes: dict, world: dict, path: Path) -> None:
-    """Seed 0 at each temperature: trajectory, hits, final particles, estimate, source."""
+def record(temperature: float, episode) -> dict:
+    """What the figure draws of one run: its path from the start, hits, final particles,
+    final estimate and outcome (JSON-ready; lengths in the scenario's unit)."""
+    s = episode.summary
+    xy = np.array([s["start"][:2]] + [r["pose"][:2] for r in episode.trace], dtype=float)
+    hits = np.array([r["points"][0] for r in episode.trace if r["readings"][0] > 0], dtype=float).reshape(-1, 2)
+    return dict(temperature=temperature, path=xy.tolist(), hits=hits.tolist(),
+                particles=np.asarray(episode.belief["particles"], dtype=float).tolist(),
+                estimate=np.asarray(episode.trace[-1]["estimate"], dtype=float).tolist(),
+                source=np.asarray(s["source"], dtype=float).tolist(), success=bool(s["success"]),
+                steps=int(s["steps"]), error=float(s["error"]))
+
+
+def figure(records: list[dict], world: dict, path: Path) -> None:
+    """One panel per :func:`record` (seed 0 at each temperature): trajectory, hits, final
+    particles, estimate, source over the mean hit rate."""
     from matplotlib.figure import Figure
     sc = load_scenario("song-100").with_world(world)
     truth = sc.build_world(0)
     (x0, x1), (y0, y1) = truth.bounds
     X, Y = np.meshgrid(np.linspace(x0, x1, 300), np.linspace(y0, y1, 150))
     rate = truth.rate(np.column_stack([X.ravel(), Y.ravel()])).reshape(X.shape)
-    fig = Figure(figsize=(8.5, 4.3 * len(episodes)), layout="constrained")
-    for ax, (temperature, episode) in zip(np.atleast_1d(fig.subplots(len(episodes), 1)), episodes.items()):
+    fig = Figure(figsize=(8.5, 4.3 * max(len(records), 1)), layout="constrained")
+    for ax, rec in zip(np.atleast_1d(fig.subplots(max(len(records), 1), 1)), records):
         ax.contour(X, Y, np.log10(np.maximum(rate, 1e-8)), levels=np.arange(-4, 1), cmap="Greys",
                    linewidths=0.7)
-        cloud = episode.belief["particles"]
+        cloud = np.asarray(rec["particles"]).reshape(-1, 2)
         ax.scatter(cloud[:, 0], cloud[:, 1], s=2, c="k", label="particles (end)")
-        xy = np.array([r["pose"][:2] for r in episode.trace])
-        start = np.asarray(episode.summary["start"][:2])
-        ax.plot(*np.vstack([start, xy]).T, "r-", lw=0.8, label="trajectory")
-        hits = np.array([r["points"][0] for r in episode.trace if r["readings"][0] > 0]).reshape(-1, 2)
+        ax.plot(*np.asarray(rec["path"]).T, "r-", lw=0.8, label="trajectory")
+        hits = np.asarray(rec["hits"]).reshape(-1, 2)
         ax.plot(hits[:, 0], hits[:, 1], "o", c="r", ms=3, label="hits")
-        ax.plot(*episode.trace[-1]["estimate"], "*", c="r", mec="k", ms=14, label="estimate (end)")
-        ax.plot(*episode.summary["source"], "P", c="tab:blue", ms=11, label="source")
-        s = episode.summary
-        ax.set_title(f"T = {temperature:g}, seed 0: {'found' if s['success'] else 'not found (step cap)'} "
-                     f"after {s['steps']} steps, estimate {s['error']:.1f} from the source")
+        ax.plot(*rec["estimate"], "*", c="r", mec="k", ms=14, label="estimate (end)")
+        ax.plot(*rec["source"], "P", c="tab:blue", ms=11, label="source")
+        ax.set_title(f"T = {rec['temperature']:g}, seed 0: "
+                     f"{'found' if rec['success'] else 'not found (step cap)'} after {rec['steps']} steps, "
+                     f"estimate {rec['error']:.1f} from the source")
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
         ax.set_aspect("equal")
         ax.legend(loc="lower left", fontsize=7, ncol=5)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, format="png")
+
+
+def record_path(out: Path, temperature: float) -> Path:
+    """Where the run of seed 0 at `temperature` keeps its :func:`record`."""
+    return out / f"fig67_seed0_T{temperature:g}.json"
+
+
+def parse(argv=None) -> argparse.Namespace:
+    """The checked command line (exit 2 with one ``error:`` line on a bad one)."""
+    ap = Parser.of(__file__, __doc__)
+    ap.add_argument("--seeds", type=whole(1), default=5, help="runs per temperature")
+    ap.add_argument("--temperatures", type=listed(number(0)), default=list(TEMPERATURES),
+                    help="temperatures T ≥ 0, comma-separated (the paper's: 0 and 1e4)")
+    ap.add_argument("--max-steps", type=whole(1, MAX_STEPS), default=6000, help="step cap of a run")
+    ap.add_argument("--last", type=whole(1), default=500, help="final steps measured for self-trapping")
+    ap.add_argument("--radius", type=number(0, low_open=True), default=25.0,
+                    help="'near the estimate' radius (length unit)")
+    args = ap.parse_resumable(argv, "runs/song_fig67", "fig67.csv", COLUMNS,
+                              ", fig67.png and seed 0's runs drawn in it (fig67_seed0_T<T>.json)")
+    args.png = ap.output_file(args.out / "fig67.png")
+    for t in args.temperatures:
+        ap.output_file(record_path(args.out, t))
+    return args
 
 
 def main(argv=None) -> list[dict]:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=int, default=5, help="runs per temperature")
-    ap.add_argument("--temperatures", default=",".join(f"{t:g}" for t in TEMPERATURES),
-                    help="temperatures T, comma-separated (the paper's: 0 and 1e4)")
-    ap.add_argument("--max-steps", type=int, default=6000, help="step cap of a run")
-    ap.add_argument("--last", type=int, default=500, help="final steps measured for self-trapping")
-    ap.add_argument("--radius", type=float, default=25.0, help="'near the estimate' radius")
-    ap.add_argument("--out", default="runs/song_fig67", help="folder for fig67.csv and fig67.png")
-    args = ap.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    temperatures = [float(t) for t in args.temperatures.split(",")]
-    rows, first = [], {}
-    with open(out / "fig67.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, COLUMNS)
-        writer.writeheader()
-        for temperature in temperatures:
-            for seed in range(args.seeds):
-                row, episode = run(temperature, seed, args.max_steps, args.last, args.radius)
-                writer.writerow(row)
-                fh.flush()
-                rows.append(row)
-                if seed == 0:
-                    first[temperature] = episode
-    figure(first, FIG67_WORLD, out / "fig67.png")
+    """Run the seeds not yet in ``fig67.csv`` (keeping seed 0's runs for the figure), then
+    draw and print from all its rows of the seeds and temperatures asked for; those rows."""
+    args = parse(argv)
+    temperatures = args.temperatures
+
+    def rows_of(key):
+        temperature, seed = key
+        row, episode = run(temperature, seed, args.max_steps, args.last, args.radius)
+        if seed == 0:                # kept before its row, so that a written row has its record
+            with atomic_output(record_path(args.out, temperature)) as tmp:
+                tmp.write_text(json.dumps(record(temperature, episode)))
+        return [row]
+
+    keys = [(t, seed) for seed in range(args.seeds) for t in temperatures]
+    rows = resume(args.csv, TYPES, keys, lambda r: (r["temperature"], r["seed"]), rows_of, args.minutes)
+    records = [json.loads(p.read_text()) for t in temperatures if (p := record_path(args.out, t)).exists()]
+    with atomic_output(args.png) as tmp:
+        figure(records, FIG67_WORLD, tmp)
     for temperature in temperatures:
         mine = [r for r in rows if r["temperature"] == temperature]
+        if not mine:
+            continue
         found = [r["steps"] for r in mine if r["success"]]
         print(f"T = {temperature:g}: found {len(found)}/{len(mine)}, mean steps of the found "
               f"{np.mean(found) if found else float('nan'):.0f}, median final error "

@@ -1,5 +1,5 @@
-"""Why are our Song et al. (2019) Table 1 times shorter (infotaxis: 2.2-2.5x at 100²-300²)? One set-up
-difference at a time.
+"""Why are our Song et al. (2019) Table 1 times shorter than the paper's? One set-up difference at a
+time.
 
 Every variant is the scenario ``song-<side>`` with world overrides (``world``), strategy
 parameters (``params``, per strategy name or ``"*"`` for all), a step cap (``max_steps``)
@@ -23,11 +23,12 @@ import json
 import math
 import time
 from multiprocessing import Pool
-from pathlib import Path
 
 import numpy as np
 
 from plume_bench import cached_seeds, mean_ci
+
+from reciprocity.campaign.tables.song2019 import SONG_SCALES, SONG_TABLE1
 
 
 def corners(side, inset=0.0):
@@ -175,20 +176,53 @@ def collect(side, names, strategies, seeds, out, workers):
     return {(n, st): results[n, st] for n in names for st in strategies}
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--side", type=int, default=100)
-    ap.add_argument("--variant", action="append", required=True)
-    ap.add_argument("--strategy", action="append", default=None)
-    ap.add_argument("--baseline", default="base")
-    ap.add_argument("--seeds", type=int, default=40)
-    ap.add_argument("--first-seed", type=int, default=0)
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--out", default="/tmp/song_gap_cache2")
+def parse(argv=None) -> argparse.Namespace:
+    """The checked command line (exit 2 with one ``error:`` line on a bad one): every
+    variant resolved and its world overrides validated on ``song-<side>``."""
+    from arguments import Parser, among, whole
+    ap = Parser.of(__file__, __doc__)
+    ap.add_argument("--side", type=among(SONG_SCALES, int), default=100,
+                    help=f"area side, among {', '.join(map(str, SONG_SCALES))}")
+    ap.add_argument("--variant", action="append", required=True,
+                    help="a variant: names of VARIANTS joined by '+', or world keys as key=json")
+    ap.add_argument("--strategy", action="append", type=among(SONG_TABLE1), default=None,
+                    help="a strategy of song2019-table1 (default: infotaxis and free-energy)")
+    ap.add_argument("--baseline", default="base", help="the variant compared with, seed by seed")
+    ap.add_argument("--seeds", type=whole(1), default=40)
+    ap.add_argument("--first-seed", type=whole(0), default=0)
+    ap.add_argument("--workers", type=whole(1), default=2)
+    ap.add_argument("--out", default="/tmp/song_gap_cache2", help="cache folder (JSON lines; a rerun resumes)")
     a = ap.parse_args(argv)
+    for option, name in [("--baseline", a.baseline)] + [("--variant", v) for v in a.variant]:
+        problem = variant_problem(name, a.side)
+        if problem:
+            ap.error(f"{option} {name!r}: {problem}")
+    a.out = ap.output_folder(a.out)
+    return a
+
+
+def variant_problem(name: str, side: int) -> str | None:
+    """What is wrong with the variant `name` on ``song-<side>`` (None: nothing)."""
+    from reciprocity.errors import SearchError
+    from reciprocity.scenarios import load_scenario
+    try:
+        spec = resolve(name, side)
+    except KeyError as exc:
+        return f"no variant {exc.args[0]!r}; the variants: {', '.join(VARIANTS)}, or key=json"
+    except ValueError as exc:
+        return f"a key=json part is not JSON ({exc})"
+    try:
+        load_scenario(f"song-{side}").with_world(spec["world"])
+    except SearchError as exc:
+        return str(exc)
+    return None
+
+
+def main(argv=None):
+    a = parse(argv)
     strategies = a.strategy or ["infotaxis", "free-energy"]
     seeds = list(range(a.first_seed, a.first_seed + a.seeds))
-    out = Path(a.out)
+    out = a.out
     out.mkdir(parents=True, exist_ok=True)
     names = list(dict.fromkeys([a.baseline] + a.variant))
     res = collect(a.side, names, strategies, seeds, out, a.workers)

@@ -20,8 +20,12 @@ The median critical α over the steps of the runs is the α at which the tempera
 decides about half the steps: the balance the paper describes (exploration first, then
 exploitation as tr(Σ) shrinks) needs α of that order, at every area. ``--alpha`` and
 ``--area-exponent`` measure another temperature the same way (the critical α is then
-still the least α, at this run's moves, that changes the α = 0 choice). Results:
-``docs/papers/song2019.md``.
+still the least α, at this run's moves, that changes the α = 0 choice).
+
+Each step is a row of ``temperature.csv`` under ``--out``, appended as its run ends; a
+rerun with the same ``--out`` resumes (runs are keyed by α, area exponent, side and
+seed, so one folder holds several temperatures), and ``--minutes M`` takes no new run
+after M minutes. Results: ``docs/papers/song2019.md``.
 """
 
 from __future__ import annotations
@@ -31,7 +35,16 @@ from multiprocessing import Pool
 
 import numpy as np
 
+from arguments import Parser, among, listed, number, whole
+from resumable import resume, truth
+
+from reciprocity.campaign.tables.song2019 import SONG_SCALES
 from reciprocity.strategies.infotaxis import TIE, FreeEnergyInfotaxis
+
+#: CSV columns, one row per step of a run, and how each is read back.
+TYPES = dict(alpha=float, area_exponent=float, side=int, seed=int, success=truth, steps=int, step=int,
+             decided=truth, critical_alpha=float)
+COLUMNS = tuple(TYPES)
 
 
 class SplitFreeEnergy(FreeEnergyInfotaxis):
@@ -54,50 +67,64 @@ class SplitFreeEnergy(FreeEnergyInfotaxis):
         return EW + self.alpha_used * ES
 
 
-def one(job):
-    side, seed, params = job
+def one(key: tuple) -> list[dict]:
+    """The run ``(alpha, area_exponent, side, seed)``: one row per step."""
+    alpha, area_exponent, side, seed = key
     from reciprocity.env import SearchEnv, rollout
     from reciprocity.strategies.agent import StrategyAgent
-    agent = StrategyAgent(SplitFreeEnergy, params)
-    episode = rollout(SearchEnv(f"song-{side}"), agent, seed)
-    log = agent.strategy.steps_log
-    return side, seed, bool(episode.summary["success"]), int(episode.summary["steps"]), log
+    agent = StrategyAgent(SplitFreeEnergy, {"alpha": alpha, "area_exponent": area_exponent})
+    s = rollout(SearchEnv(f"song-{side}"), agent, seed).summary
+    return [dict(alpha=alpha, area_exponent=area_exponent, side=side, seed=seed, success=bool(s["success"]),
+                 steps=int(s["steps"]), step=i + 1, decided=decided, critical_alpha=crit)
+            for i, (decided, crit) in enumerate(agent.strategy.steps_log)]
 
 
-def main(argv=None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=int, default=10)
-    ap.add_argument("--sides", default="100,150,200,250,300,350")
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--alpha", type=float, default=0.01, help="free energy's alpha (the paper's 0.01)")
-    ap.add_argument("--area-exponent", type=float, default=0.0,
+def parse(argv=None) -> argparse.Namespace:
+    """The checked command line (exit 2 with one ``error:`` line on a bad one)."""
+    ap = Parser.of(__file__, __doc__)
+    ap.add_argument("--seeds", type=whole(1), default=10, help="runs per side")
+    ap.add_argument("--sides", type=listed(among(SONG_SCALES, int)), default=list(SONG_SCALES),
+                    help=f"area sides, comma-separated, among {', '.join(map(str, SONG_SCALES))}")
+    ap.add_argument("--workers", type=whole(1), default=2, help="processes running the seeds")
+    ap.add_argument("--alpha", type=number(0), default=0.01, help="free energy's alpha (the paper's 0.01)")
+    ap.add_argument("--area-exponent", type=number(), default=0.0,
                     help="alpha grows as (L/100)^k (0: the paper; 2.35: song2019-table1 --protocol balanced)")
-    args = ap.parse_args(argv)
-    sides = [int(s) for s in args.sides.split(",")]
-    params = {"alpha": args.alpha, "area_exponent": args.area_exponent}
-    jobs = [(side, seed, params) for side in sides for seed in range(args.seeds)]
+    return ap.parse_resumable(argv, "runs/song_temperature", "temperature.csv", COLUMNS,
+                              "; one row per step, keyed by alpha and area exponent too")
+
+
+def main(argv=None) -> list[dict]:
+    """Run what ``temperature.csv`` lacks, then print the table from all its rows asked
+    for; those rows."""
+    args = parse(argv)
+    keys = [(args.alpha, args.area_exponent, side, seed) for side in args.sides for seed in range(args.seeds)]
     with Pool(args.workers) as pool:
-        out = pool.map(one, jobs)
+        rows = resume(args.csv, TYPES, keys, lambda r: (r["alpha"], r["area_exponent"], r["side"], r["seed"]),
+                      one, args.minutes, mapper=pool.imap)
     print(f"free-energy, alpha = {args.alpha:g} (L/100)^{args.area_exponent:g}, beta = 1.4, gamma = 3; "
           f"seeds 0..{args.seeds - 1} per side\n")
     print("| side | found | mean steps | steps decided by T | no α decides | critical α: p25 / median / p75 |")
     print("|---:|---:|---:|---:|---:|---|")
-    for side in sides:
-        rows = [o for o in out if o[0] == side]
-        decided = np.array([d for o in rows for d, _ in o[4]])
-        crit = np.array([c for o in rows for _, c in o[4]])
+    for side in args.sides:
+        mine = [r for r in rows if r["side"] == side]
+        if not mine:
+            continue
+        runs = {r["seed"]: r for r in mine}                       # the run's own columns, once
+        decided = np.array([r["decided"] for r in mine])
+        crit = np.array([r["critical_alpha"] for r in mine])
         q = np.percentile(crit, [25, 50, 75], method="lower")      # inf (no alpha decides) sorts last
-        print(f"| {side}² | {sum(o[2] for o in rows)}/{len(rows)} | {np.mean([o[3] for o in rows]):.0f} | "
-              f"{100 * decided.mean():.1f} % | {100 * np.isinf(crit).mean():.1f} % | "
-              f"{q[0]:.3g} / {q[1]:.3g} / {q[2]:.3g} |", flush=True)
+        print(f"| {side}² | {sum(r['success'] for r in runs.values())}/{len(runs)} | "
+              f"{np.mean([r['steps'] for r in runs.values()]):.0f} | {100 * decided.mean():.1f} % | "
+              f"{100 * np.isinf(crit).mean():.1f} % | {q[0]:.3g} / {q[1]:.3g} / {q[2]:.3g} |", flush=True)
     print("\nA power law through the medians (sides up to 250², where no run self-traps): "
-          + _fit(sides, out))
+          + _fit(args.sides, rows))
+    return rows
 
 
-def _fit(sides, out) -> str:
+def _fit(sides, rows) -> str:
     """``alpha_50 = a (L/100)^k`` fitted to the medians of the sides up to 250."""
-    pts = [(side, np.percentile([c for o in out if o[0] == side for _, c in o[4]], 50, method="lower"))
-           for side in sides if side <= 250]
+    pts = [(side, np.percentile([r["critical_alpha"] for r in rows if r["side"] == side], 50, method="lower"))
+           for side in sides if side <= 250 and any(r["side"] == side for r in rows)]
     pts = [(s, m) for s, m in pts if np.isfinite(m)]
     if len(pts) < 2:
         return "too few sides"
