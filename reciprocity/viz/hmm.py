@@ -16,17 +16,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.patches import Rectangle
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from ..beliefs.hmm import HMMSourceMap, plume_map
+from ..errors import SearchError
+from ..models.hmm import CellGrid, backtrack, transition, viterbi
 
-from ..beliefs.hmm import HMMSourceMap, plume_map  # noqa: E402
-from ..errors import SearchError  # noqa: E402
-from ..models.hmm import CellGrid, backtrack, transition, viterbi  # noqa: E402
-
-__all__ = ["draw_map", "farrell_figures", "plot_search"]
+__all__ = ["draw_map", "farrell_figures", "plot_search", "search_map_figure"]
 
 #: The dashed search area of interest of the paper's figures, ``(x0, x1, y0, y1)``, m.
 SEARCH_AREA = (10.0, 90.0, -40.0, 40.0)
@@ -71,7 +69,7 @@ def draw_map(ax, grid: CellGrid, values: np.ndarray | None, *, plume: dict | Non
         cen = grid.centres()[np.asarray(cells)]
         for k, p in enumerate(cen):
             shade = 0.15 + 0.6 * k / max(len(cen) - 1, 1)
-            ax.add_patch(plt.Rectangle((p[0] - lx / 2, p[1] - ly / 2), lx, ly, color=str(shade), alpha=0.9))
+            ax.add_patch(Rectangle((p[0] - lx / 2, p[1] - ly / 2), lx, ly, color=str(shade), alpha=0.9))
     if wind is not None:
         pts, u = wind
         ax.quiver(pts[:, 0], pts[:, 1], u[:, 0], u[:, 1], angles="xy", scale_units="xy", scale=0.25,
@@ -149,7 +147,8 @@ def farrell_figures(record: dict, out) -> list[Path]:
     out.mkdir(parents=True, exist_ok=True)
     grid = CellGrid(record["region"], 40, 25)
     src = grid.from_paper(488)                           # the source's cell in the paper
-    fig, axes = plt.subplots(2, 2, figsize=(10, 10))
+    fig = Figure(figsize=(10, 10))
+    axes = fig.subplots(2, 2)
     area = SEARCH_AREA
     maps, paths = _vehicle_maps(record, grid, src), _uniform_paths(record, grid, src)
     plume = record["plume"]
@@ -171,11 +170,10 @@ def farrell_figures(record: dict, out) -> list[Path]:
     fig.tight_layout()
     path = out / "farrell_fig5_8.png"
     fig.savefig(path, dpi=110)
-    plt.close(fig)
     return [path]
 
 
-def plot_search(episode, path) -> Path:
+def search_map_figure(episode) -> Figure:
     """The vehicle's track over the final source map (the strategy's record
     ``belief["source_map"]``, e.g. ``hmm``'s) or over the plume alone, with the true
     source and the estimate, drawn from the episode's record.
@@ -185,20 +183,19 @@ def plot_search(episode, path) -> Path:
     episode : Episode
         A filament episode run with ``figures=True``: its :attr:`~reciprocity.episode.Episode.truth`
         holds the plume at the end, the region, the cells and the source.
-    path : str or Path
-        The PNG written.
 
     Returns
     -------
-    Path
+    Figure
     """
     truth = episode.truth
     if "plume" not in truth:
-        raise SearchError("plot_search draws a filament episode from its record: run it with figures=True")
+        raise SearchError("a filament figure is drawn from the episode's record: run the episode with figures=True")
     tr = episode.trace
     track = np.array([r["pose"][:2] for r in tr])
     hits = np.array([r["readings"][0] > 0 for r in tr])
-    fig, ax = plt.subplots(figsize=(6, 6))
+    fig = Figure(figsize=(6, 6))
+    ax = fig.subplots()
     grid = CellGrid(truth["region"], *truth["cells"])
     draw_map(ax, grid, episode.belief.get("source_map"), plume=truth["plume"], wind=truth["plume"]["wind"],
              title=f"{episode.summary['strategy']}: {episode.summary['stop_reason']}")
@@ -208,6 +205,10 @@ def plot_search(episode, path) -> Path:
     if episode.summary["estimate"] is not None:
         ax.plot(*episode.summary["estimate"], "gx", ms=10, mew=2)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    return fig
+
+
+def plot_search(episode, path) -> Path:
+    """Write :func:`search_map_figure` of `episode` to the PNG `path` (100 dpi); return the path."""
+    search_map_figure(episode).savefig(path, dpi=100)
     return Path(path)
