@@ -9,7 +9,9 @@ in the corners, and a dashed rectangle marking the search area of interest.
 Everything drawn of the plume comes from records the truth's side made
 (:meth:`FilamentPlume.snapshot <reciprocity.worlds.filament.FilamentPlume.snapshot>`,
 :func:`~reciprocity.worlds.filament_figures.farrell_record`, an episode's
-:attr:`~reciprocity.episode.Episode.truth`): this module never sees a world.
+:attr:`~reciprocity.episode.Episode.truth`), and every map from the belief's side
+(:func:`~reciprocity.beliefs.farrell_maps.farrell_maps`, a strategy's report): this module
+draws arrays and never sees a world.
 """
 
 from __future__ import annotations
@@ -20,9 +22,9 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
-from ..beliefs.hmm import HMMSourceMap, plume_map
+from ..beliefs.farrell_maps import farrell_maps
 from ..errors import SearchError
-from ..models.hmm import CellGrid, backtrack, transition, viterbi
+from ..models.hmm import CellGrid
 
 __all__ = ["draw_map", "farrell_figures", "plot_search", "search_map_figure"]
 
@@ -93,36 +95,6 @@ def draw_map(ax, grid: CellGrid, values: np.ndarray | None, *, plume: dict | Non
     ax.set_title(title, fontsize=8)
 
 
-def _vehicle_maps(record: dict, grid: CellGrid, src: int) -> dict:
-    """The maps of Figs. 5 and 6 from what the vehicle measured: the plume map α(65, 0)
-    of a source in cell `src`, and β̄ at the first detection after 20 s (or None)."""
-    belief = HMMSourceMap(grid, readings=record["readings"])
-    ts, detect = [], None
-    for second, (u, hit, pos) in enumerate(zip(record["flow"], record["hit"], record["position"])):
-        ts.append(transition(grid, u, 1.0))
-        belief.advance(u, hit, pos)
-        if record["detection"] is not None and second == record["detection"][0]:
-            k = int(grid.index(pos)[0])
-            detect = (second, k, belief.beta(k))
-    return dict(alpha=plume_map(np.eye(grid.N)[src], ts), detect=detect)
-
-
-def _uniform_paths(record: dict, grid: CellGrid, src: int) -> dict:
-    """The paths of Figs. 7 and 8 under the uniform flow: the most likely odour path from
-    `src` at t = 0 to C_388 at 44 s, and the map and the 25-step most likely detection
-    path C_388 → C_471 at 48 s."""
-    trs = [transition(grid, u, 1.0) for u in record["uniform_flow"]]
-    _, psi = viterbi(np.eye(grid.N)[src], [t.bar() for t in trs[:44]])
-    m8 = HMMSourceMap(grid, readings=1)
-    m8.pi = np.eye(grid.N)[src]
-    for t in trs:
-        t.superpose(m8.psi, m8.n + 1, m8._buf)
-        m8.psi, m8._buf = m8._buf, m8.psi
-        m8.n += 1
-    return dict(mlop=backtrack(psi, grid.from_paper(388)), alpha=m8.alpha(),
-                mldp=m8.mldp(grid.from_paper(388), 25, end=grid.from_paper(471)))
-
-
 def farrell_figures(record: dict, out) -> list[Path]:
     """The paper's Figs. 5–8 from one record: the plume map α(65, 0) for a source in
     the true source's cell (Fig. 5), the map β̄_k for one detection in C_k after a
@@ -135,7 +107,8 @@ def farrell_figures(record: dict, out) -> list[Path]:
     ----------
     record : dict
         The simulated plumes and what the vehicle measured
-        (:func:`reciprocity.worlds.filament_figures.farrell_record`).
+        (:func:`reciprocity.worlds.filament_figures.farrell_record`); the maps are
+        :func:`reciprocity.beliefs.farrell_maps.farrell_maps` of it.
     out : str or Path
         Folder (created) for ``farrell_fig5_8.png`` (the four panels).
 
@@ -145,12 +118,11 @@ def farrell_figures(record: dict, out) -> list[Path]:
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    grid = CellGrid(record["region"], 40, 25)
-    src = grid.from_paper(488)                           # the source's cell in the paper
+    maps = farrell_maps(record)
+    grid, src = maps["grid"], maps["source_cell"]
     fig = Figure(figsize=(10, 10))
     axes = fig.subplots(2, 2)
     area = SEARCH_AREA
-    maps, paths = _vehicle_maps(record, grid, src), _uniform_paths(record, grid, src)
     plume = record["plume"]
     draw_map(axes[0, 0], grid, maps["alpha"], plume=plume, wind=plume["wind"], search_area=area,
              title=f"Fig. 5: plume map α(65, 0), source in C{grid.to_paper(src)}")
@@ -163,9 +135,9 @@ def farrell_figures(record: dict, out) -> list[Path]:
     else:
         axes[0, 1].set_title("Fig. 6: no detection on this path", fontsize=8)
     snap44, snap48 = record["uniform"][44], record["uniform"][48]
-    draw_map(axes[1, 0], grid, None, plume=snap44, wind=snap44["wind"], cells=paths["mlop"], search_area=area,
+    draw_map(axes[1, 0], grid, None, plume=snap44, wind=snap44["wind"], cells=maps["mlop"], search_area=area,
              title="Fig. 7: most likely odour path C488(0) → C388(44)")
-    draw_map(axes[1, 1], grid, paths["alpha"], plume=snap48, wind=snap48["wind"], cells=paths["mldp"],
+    draw_map(axes[1, 1], grid, maps["uniform_alpha"], plume=snap48, wind=snap48["wind"], cells=maps["mldp"],
              search_area=area, title="Fig. 8: 25-step most likely detection path C388 → C471 (t = 48 s)")
     fig.tight_layout()
     path = out / "farrell_fig5_8.png"

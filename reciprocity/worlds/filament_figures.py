@@ -3,7 +3,8 @@ measuring a time-varying filament plume, and a plume under the uniform flow of e
 
 :func:`farrell_record` simulates them and returns arrays only: what the vehicle measured
 (its track, the flow it read each second, its detections) and snapshots of the plume for
-drawing. The maps themselves (the belief's side) and the drawing are
+drawing. The maps themselves are the belief's side's
+(:func:`reciprocity.beliefs.farrell_maps.farrell_maps`), the drawing
 :func:`reciprocity.viz.hmm.farrell_figures`'s.
 """
 
