@@ -49,7 +49,7 @@ def main(argv=None) -> list[Path]:
 
     for sc in ("song-100", "otto-2d", "hajieghrary"):
         ep = r.run(sc, "random-walk", seed=0, params={"n_steps": 1}, agents=1, figures=True)
-        save(rate_field_figure(ep.truth, title=f"{sc}: true mean hits per step"), f"rate_{sc}.png")
+        save(rate_field_figure(ep, title=f"{sc}: true mean hits per step"), f"rate_{sc}.png")
     for name, turn, s in (("free-energy", 30, a.seed), ("infotaxis", 30, a.seed), ("infotaxis", 3, 1)):
         ep = r.run(_scenario("song-100", a.quick), name, seed=s, world={"max_turn": turn}, figures=True)
         save(search_figure(ep, title=f"{name}, ±{turn}°: {ep.summary['steps']} steps, {ep.summary['stop']}"),

@@ -36,14 +36,14 @@ def _rate_image(ax, truth: dict):
     return im
 
 
-def rate_field_figure(truth: dict, *, title: str = "") -> Figure:
+def rate_field_figure(episode: Episode, *, title: str = "") -> Figure:
     """The true mean number of hits per step, log10, with the source.
 
     Parameters
     ----------
-    truth : dict
-        A plume episode's :attr:`~reciprocity.episode.Episode.truth` (run with
-        ``figures=True``): ``mean_hits``, ``bounds``, ``source``, ``form``.
+    episode : Episode
+        A plume episode run with ``figures=True``: its :attr:`~reciprocity.episode.Episode.truth`
+        holds ``mean_hits``, ``bounds``, ``source`` and ``form``.
     title : str
         Default: the rate's form.
 
@@ -51,6 +51,7 @@ def rate_field_figure(truth: dict, *, title: str = "") -> Figure:
     -------
     Figure
     """
+    truth = _truth(episode)
     fig = Figure(figsize=(6, 5))
     ax = fig.subplots()
     im = _rate_image(ax, truth)
