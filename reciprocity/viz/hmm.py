@@ -45,7 +45,7 @@ def draw_map(ax, grid: CellGrid, values: np.ndarray | None, *, plume: dict | Non
     plume : dict, optional
         A plume snapshot (:meth:`~reciprocity.worlds.filament.FilamentPlume.snapshot`):
         its ``filaments`` (centres, (n, 2), m) inside the region are drawn as grey discs
-        of radius three puff σ (``radii``, (n,), m).
+        growing with their puff σ (``radii``, (n,), m).
     wind : tuple of ndarray, optional
         ``(points, vectors)``, each (k, 2) (m, m/s), e.g. a snapshot's ``wind``: drawn as arrows.
     cells : array of int, optional
