@@ -60,16 +60,16 @@ def lattice(out: Path, quick: bool) -> None:
 
 def plume(out: Path, quick: bool) -> None:
     """Free-energy infotaxis on song-100 over its final posterior."""
-    episode, strategy, platforms = r.execute(_scenario("song-100", quick, 40), "free-energy", seed=2)
+    episode = r.run(_scenario("song-100", quick, 40), "free-energy", seed=2, figures=True)
     s = episode.summary
-    search_figure(episode, strategy, platforms[0].world,
-                  title=f"plume: free energy on song-100, {s['steps']} steps").savefig(out / FIGURES[2], dpi=100)
+    search_figure(episode, title=f"plume: free energy on song-100, {s['steps']} steps").savefig(out / FIGURES[2],
+                                                                                                 dpi=100)
 
 
 def filament(out: Path, quick: bool) -> None:
     """The hidden-Markov map search of farrell."""
-    episode, strategy, platforms = r.execute(_scenario("farrell", quick, 300), "hmm", seed=2)
-    plot_search(episode, strategy, platforms[0].world, out / FIGURES[3])
+    episode = r.run(_scenario("farrell", quick, 300), "hmm", seed=2, figures=True)
+    plot_search(episode, out / FIGURES[3])
 
 
 def main(argv=None) -> list[Path]:

@@ -328,7 +328,9 @@ def _run_one(args, plan: _Planned, out: Path | None):
         out.mkdir(parents=True, exist_ok=True)
         episode.to_json(out / f"{plan.strategy}_episode.json")
         if episode.belief:                        # the strategy's record holds something to draw
-            arena = plan.scenario.arena.with_scenario(start=episode.summary["start"])
+            arena = plan.scenario.arena                 # None in a plume or filament world
+            if arena is not None:
+                arena = arena.with_scenario(start=episode.summary["start"])
             _write_figures(out, episode, arena, video=args.video)
     return episode
 

@@ -138,6 +138,13 @@ def test_world_figures(tmp_path):
     assert all(p.stat().st_size > 10_000 for p in paths)
 
 
+def test_plume_figures(tmp_path, pixels_near):
+    paths = load("plume_figures").main(["--out", str(tmp_path), "--quick"])
+    assert [p.name for p in paths] == list(load("plume_figures").FIGURES)
+    assert all(p.stat().st_size > 10_000 for p in paths)
+    assert pixels_near(tmp_path / "rate_song-100.png", (255, 0, 0), 60) > 20    # the true source's red star
+
+
 def test_wind_search_figure(tmp_path, pixels_near):
     s = load("wind_search_figure").main(["--out", str(tmp_path), "--h", "3", "--truth-h", "2", "--max-steps", "6"])
     assert s["n_measurements"] == 6

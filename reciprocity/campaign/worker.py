@@ -92,12 +92,16 @@ def _separated_points(sc: Scenario, k: int, rng: np.random.Generator) -> list:
                       "in 1000 tries")
 
 
-def execute_task(task: EpisodeTask):
+def execute_task(task: EpisodeTask, *, figures: bool = False):
     """Run the episode of `task` exactly as a campaign does.
 
     Parameters
     ----------
     task : EpisodeTask
+    figures : bool
+        Keep what the figures draw in the episode (:attr:`Episode.truth
+        <reciprocity.episode.Episode.truth>`, :attr:`Episode.belief
+        <reciprocity.episode.Episode.belief>`); the episode is the same.
 
     Returns
     -------
@@ -111,7 +115,7 @@ def execute_task(task: EpisodeTask):
         world.update(world_draw(sc, task.seed))
     return api.execute(sc, task.variant.strategy, seed=task.seed, params=dict(task.variant.params),
                        platform=task.platform, agents=task.agents, world=world or None,
-                       platform_options=task.platform_options)
+                       platform_options=task.platform_options, figures=figures)
 
 
 def run_task(task: EpisodeTask) -> dict:

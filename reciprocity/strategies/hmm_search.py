@@ -146,6 +146,10 @@ class HMMSearch(_PlaneWalk):
                     **({"approach": self.approach} if self.target_rule == "verify" else {}),
                     **({"discount_visits": True} if self.discount_visits else {}))
 
+    def figure_record(self) -> dict:
+        """``source_map``: the final source map π̂, normalised (N,), over the task's cells."""
+        return dict(source_map=self.belief.weights())
+
     def start(self, ctx: SearchContext) -> None:
         self._start_plane(ctx)
         m, n = ctx.nominal["cells"]

@@ -187,6 +187,11 @@ class PlumeSearch(Strategy):
         self._record()
 
     # -- records -----------------------------------------------------------------------
+    def figure_record(self) -> dict:
+        """``particles``: the belief's particle clouds every :data:`SNAPSHOT_EVERY`
+        readings, a list of ``(readings, positions (n, 2), weights (n,))``."""
+        return dict(particles=list(self.snapshots))
+
     def free_energy(self, alpha: float = 0.01, beta: float = 1.4, gamma: float = 3.0) -> float:
         """Free energy eq. (8) of papers/002 at the current place and belief."""
         w, x = self.belief.weights(), self.belief.support()

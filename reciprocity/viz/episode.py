@@ -8,7 +8,9 @@ from arenas import Arena
 
 from ..episode import Episode
 from .figures import count_steps_figure, gradient_run_figure, imaging_steps_figure, sources_figure
+from .hmm import search_map_figure
 from .mapping import mapping_steps_figure
+from .plume import search_figure as plume_search_figure
 
 __all__ = ["episode_figures"]
 
@@ -21,11 +23,13 @@ def _finding_steps(trace) -> list[int]:
                   | ({1 + counts.index(1)} if 1 in counts else set()))
 
 
-def episode_figures(episode: Episode, arena: Arena):
+def episode_figures(episode: Episode, arena: Arena | None):
     """The figures of an episode run with ``figures=True``, drawn from its record alone.
 
-    What is drawn follows what the record holds, never the strategy's name: the residual
-    map of one more source (``belief["residual"]``: several sources); the imaging steps
+    What is drawn follows what the record holds, never the strategy's name: in a plume
+    world (``truth["mean_hits"]``) the search over the true hit rate with the strategy's
+    particle clouds; in a filament world (``truth["plume"]``) the track over the plume and
+    the strategy's final source map; in an arena, the residual map of one more source (``belief["residual"]``: several sources); the imaging steps
     (``belief["steps"]``, as Fig. 4), the posterior on hit counts step by step
     (``belief["posterior"]``, over the true ``truth["wind"]``) or else the run over the
     true signal (Fig. 5: the painted floor ``truth["floor"]`` or the true ``truth["field"]``, with
@@ -36,17 +40,24 @@ def episode_figures(episode: Episode, arena: Arena):
     ----------
     episode : Episode
         Its :attr:`~Episode.belief` and :attr:`~Episode.truth` (empty: nothing is drawn).
-    arena : Arena
-        For the walls (with the episode's start).
+    arena : Arena or None
+        For the walls (with the episode's start); None in a world without an arena.
 
     Yields
     ------
     name : str
-        ``"sources"``, ``"steps"``, ``"path"`` or ``"map_steps"``.
+        ``"search"`` (plume and filament worlds), ``"sources"``, ``"steps"``, ``"path"``
+        or ``"map_steps"``.
     figure : Figure
     """
     belief, truth = episode.belief, episode.truth
     if not belief:
+        return
+    if "mean_hits" in truth:
+        yield "search", plume_search_figure(episode)
+        return
+    if "plume" in truth:
+        yield "search", search_map_figure(episode)
         return
     if "residual" in belief:
         yield "sources", sources_figure(episode, belief["residual"], arena)

@@ -1,5 +1,13 @@
 """Figures of plume searches: the mean-rate field, a search with its hits and particle
-clouds, entropy and free energy against time, and multi-searcher runs with their messages."""
+clouds, entropy and free energy against time, and multi-searcher runs with their messages.
+
+Each figure is drawn from records alone: the truth's (an episode's
+:attr:`~reciprocity.episode.Episode.truth`, :meth:`PlumeWorld.figure_record
+<reciprocity.worlds.plume.PlumeWorld.figure_record>`: the true mean hits per step, the
+bounds, the source) and the strategy's (:attr:`~reciprocity.episode.Episode.belief`: its
+``particles``). Run the episodes with ``figures=True``; ``examples/plume_figures.py``
+runs and draws the set.
+"""
 
 from __future__ import annotations
 
@@ -7,29 +15,48 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..episode import Episode
-from ..worlds.plume import PlumeWorld
+from ..errors import SearchError
 
-__all__ = ["rate_field_figure", "search_figure", "voi_figure", "write_figures"]
+__all__ = ["rate_field_figure", "search_figure", "voi_figure"]
 
 
-def _rate_image(ax, world: PlumeWorld, n: int = 200):
-    (x0, x1), (y0, y1) = world.bounds
-    gx, gy = np.linspace(x0, x1, n), np.linspace(y0, y1, n)
-    X, Y = np.meshgrid(gx, gy)
-    r = world.rate(np.column_stack([X.ravel(), Y.ravel()])).reshape(X.shape) * world.nominal()["dt"]
+def _truth(episode: Episode) -> dict:
+    """The episode's record of a plume's truth; refused when it was run without figures."""
+    if "mean_hits" not in episode.truth:
+        raise SearchError("a plume figure is drawn from the episode's record: run the episode with figures=True")
+    return episode.truth
+
+
+def _rate_image(ax, truth: dict):
+    (x0, x1), (y0, y1) = truth["bounds"]
+    r = truth["mean_hits"]
     im = ax.imshow(np.log10(np.maximum(r, 1e-6)), origin="lower", extent=(x0, x1, y0, y1),
                    cmap="viridis", vmin=-4, vmax=max(-3, float(np.log10(r.max()))), aspect="equal")
-    ax.plot(*world.source, "r*", ms=14, mec="w", label="source")
+    ax.plot(*truth["source"], "r*", ms=14, mec="w", label="source")
     return im
 
 
-def rate_field_figure(world: PlumeWorld, *, title: str = "") -> Figure:
-    """The true mean number of hits per step, log10, with the source."""
+def rate_field_figure(episode: Episode, *, title: str = "") -> Figure:
+    """The true mean number of hits per step, log10, with the source.
+
+    Parameters
+    ----------
+    episode : Episode
+        A plume episode run with ``figures=True``: its :attr:`~reciprocity.episode.Episode.truth`
+        holds ``mean_hits``, ``bounds``, ``source`` and ``form``.
+    title : str
+        Default: the rate's form.
+
+    Returns
+    -------
+    Figure
+    """
+    truth = _truth(episode)
     fig = Figure(figsize=(6, 5))
     ax = fig.subplots()
-    im = _rate_image(ax, world)
+    im = _rate_image(ax, truth)
     fig.colorbar(im, ax=ax, label="log10 mean hits per step")
-    ax.set_title(title or f"mean hit rate ({world.params.form} form)")
+    ax.set_title(title or f"mean hit rate ({truth['form']} form)")
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.legend(loc="lower left")
@@ -43,14 +70,28 @@ def _path(trace, agent=0):
     return np.array(pts).reshape(-1, 2), hits
 
 
-def search_figure(episode: Episode, strategy, world: PlumeWorld, *, title: str = "") -> Figure:
+def search_figure(episode: Episode, *, title: str = "") -> Figure:
     """Trajectory with hits over the rate field, particle clouds at four steps, and
-    entropy / free energy against time."""
+    entropy / free energy against time.
+
+    Parameters
+    ----------
+    episode : Episode
+        A plume episode run with ``figures=True``: the truth's record, and the strategy's
+        particle clouds (``belief["particles"]``: none, no cloud is drawn).
+    title : str
+        Default: the strategy, its steps and its stop.
+
+    Returns
+    -------
+    Figure
+    """
+    truth = _truth(episode)
     trace = episode.trace
     fig = Figure(figsize=(13, 8), layout="constrained")
     axes = fig.subplot_mosaic([["path", "c0", "c1"], ["curves", "c2", "c3"]])
     ax = axes["path"]
-    _rate_image(ax, world)
+    _rate_image(ax, truth)
     path, hits = _path(trace)
     start = np.asarray(episode.summary["start"][:2])
     ax.plot(*np.vstack([start, path]).T, "w-", lw=1)
@@ -61,9 +102,9 @@ def search_figure(episode: Episode, strategy, world: PlumeWorld, *, title: str =
     ax.set_title(title or f"{episode.summary['strategy']}: {episode.summary['steps']} steps, "
                  f"{episode.summary['stop']}")
     ax.legend(loc="lower left", fontsize=7)
-    snaps = strategy.snapshots
+    snaps = episode.belief.get("particles", [])
     picks = [snaps[int(i)] for i in np.linspace(0, len(snaps) - 1, 4).round()] if snaps else []
-    (x0, x1), (y0, y1) = world.bounds
+    (x0, x1), (y0, y1) = truth["bounds"]
     for k, key in enumerate(["c0", "c1", "c2", "c3"]):
         a = axes[key]
         if k >= len(picks):
@@ -73,7 +114,7 @@ def search_figure(episode: Episode, strategy, world: PlumeWorld, *, title: str =
         a.scatter(x[:, 0], x[:, 1], s=2 + 60 * w / max(w.max(), 1e-300), c="k", alpha=0.6)
         upto = path[:step] if step > 0 else path[:0]
         a.plot(*np.vstack([start, upto]).T, "b-", lw=0.8)
-        a.plot(*world.source, "r*", ms=10)
+        a.plot(*truth["source"], "r*", ms=10)
         est = w @ x
         a.plot(*est, "m+", ms=12, mew=2)
         a.set_xlim(x0, x1)
@@ -94,14 +135,25 @@ def search_figure(episode: Episode, strategy, world: PlumeWorld, *, title: str =
     return fig
 
 
-def voi_figure(episodes: dict, world: PlumeWorld) -> Figure:
-    """Trajectories of every searcher for each run of `episodes` (label -> Episode), and
-    the message timeline (cumulative messages against time)."""
+def voi_figure(episodes: dict) -> Figure:
+    """Trajectories of every searcher for each run of `episodes` (label -> Episode, each
+    run with ``figures=True``) over its true rate field, and the message timeline
+    (cumulative messages against time).
+
+    Parameters
+    ----------
+    episodes : dict
+        Label -> Episode.
+
+    Returns
+    -------
+    Figure
+    """
     fig = Figure(figsize=(5 * (len(episodes) + 1), 5), layout="constrained")
     axes = fig.subplots(1, len(episodes) + 1)
     colors = ["w", "orange", "cyan", "magenta"]
     for ax, (label, ep) in zip(axes, episodes.items()):
-        _rate_image(ax, world)
+        _rate_image(ax, _truth(ep))
         trace = ep.trace
         starts = np.atleast_2d(ep.summary.get("starts", [ep.summary["start"]]))
         for k in range(len(starts)):
@@ -122,35 +174,3 @@ def voi_figure(episodes: dict, world: PlumeWorld) -> Figure:
     ax.set_title("message timeline")
     ax.legend()
     return fig
-
-
-def write_figures(out, *, seed: int = 2) -> list:
-    """Write the plume figures (PNG) to folder `out`: rate fields of the song-100,
-    otto-2d and hajieghrary scenarios; free-energy and infotaxis runs on song-100 with
-    ±30° turns and infotaxis with the paper's printed ±3° (it circles the estimate); the
-    three hajieghrary teams. Returns the paths."""
-    from pathlib import Path
-
-    from ..api import execute
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = []
-
-    def save(fig, name):
-        paths.append(out / name)
-        fig.savefig(paths[-1], dpi=80)
-
-    for sc in ("song-100", "otto-2d", "hajieghrary"):
-        _, _, plats = execute(sc, "random-walk", seed=0, params={"n_steps": 1}, agents=1)
-        save(rate_field_figure(plats[0].world, title=f"{sc}: true mean hits per step"), f"rate_{sc}.png")
-    for name, turn, s in (("free-energy", 30, seed), ("infotaxis", 30, seed), ("infotaxis", 3, 1)):
-        ep, strat, plats = execute("song-100", name, seed=s, world={"max_turn": turn})
-        save(search_figure(ep, strat, plats[0].world,
-                           title=f"{name}, ±{turn}°: {ep.summary['steps']} steps, {ep.summary['stop']}"),
-             f"search_{name}_turn{turn}.png")
-    teams = {}
-    for label, agents, share in (("1 searcher", 1, "all"), ("3, share all", 3, "all"),
-                                 ("3, share by VoI", 3, "voi")):
-        teams[label], _, plats = execute("hajieghrary", "voi", seed=0, agents=agents, params={"share": share})
-    save(voi_figure(teams, plats[0].world), "voi.png")
-    return paths

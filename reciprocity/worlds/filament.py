@@ -22,10 +22,35 @@ import numpy as np
 
 from .base import Reading, World
 
-__all__ = ["FilamentParams", "FilamentPlume", "FilamentWorld", "puff_concentration"]
+__all__ = ["FilamentParams", "FilamentPlume", "FilamentWorld", "puff_concentration", "wind_arrows"]
 
 #: Filaments whose centre leaves the region by more than this margin are dropped (m).
 DROP_MARGIN = 10.0
+#: The wind a figure draws: on ARROWS × ARROWS points, ARROW_MARGIN m in from the region's edges.
+ARROWS, ARROW_MARGIN = 10, 5.0
+
+
+def wind_arrows(region, wind) -> tuple[np.ndarray, np.ndarray]:
+    """The wind a figure draws over `region`: its points and vectors.
+
+    Parameters
+    ----------
+    region : tuple
+        ``(x_min, x_max, y_min, y_max)``, m.
+    wind : callable or array_like, shape (2,)
+        ``wind(points) -> (n, 2)`` (m/s), or a uniform flow (m/s).
+
+    Returns
+    -------
+    points, vectors : ndarray, shape (ARROWS², 2)
+        A regular grid :data:`ARROW_MARGIN` m in from the edges, and the wind there (m/s).
+    """
+    x0, x1, y0, y1 = region
+    gx, gy = np.meshgrid(np.linspace(x0 + ARROW_MARGIN, x1 - ARROW_MARGIN, ARROWS),
+                         np.linspace(y0 + ARROW_MARGIN, y1 - ARROW_MARGIN, ARROWS))
+    pts = np.c_[gx.ravel(), gy.ravel()]
+    u = wind(pts) if callable(wind) else np.tile(np.asarray(wind, dtype=float), (len(pts), 1))
+    return pts, u
 
 
 def puff_concentration(d2: np.ndarray, sigma2: np.ndarray, mass: float) -> np.ndarray:
@@ -197,6 +222,13 @@ class FilamentPlume:
         idx = np.flatnonzero(self.alive)
         return self.pos[idx].copy(), self.age[idx].copy()
 
+    def snapshot(self) -> dict:
+        """What a figure draws of the plume now: ``filaments`` (centres of the live
+        filaments, (n, 2), m), ``radii`` (their puffs' σ, (n,), m) and ``wind`` (the
+        :func:`wind_arrows` over the region: points and vectors, m and m/s)."""
+        centres, age = self.filaments
+        return dict(filaments=centres, radii=np.sqrt(self.sigma2(age)), wind=wind_arrows(self.p.region, self.wind))
+
 
 class FilamentWorld(World):
     """The truth of the ``filament`` world kind: a filament plume read by a binary
@@ -252,3 +284,11 @@ class FilamentWorld(World):
     def describe(self) -> dict:
         return dict(release_rate=self.p.release_rate, threshold=self.p.threshold,
                     wind_sigma=self.p.wind_sigma)
+
+    def figure_record(self) -> dict:
+        """What the figures draw of the truth (:attr:`reciprocity.episode.Episode.truth`):
+        ``plume`` (the plume at the end, :meth:`FilamentPlume.snapshot`), ``region``
+        (``(x_min, x_max, y_min, y_max)``, m), ``cells`` (the map's m × n) and ``source``
+        (the true source, (2,), m)."""
+        return dict(plume=self.plume.snapshot(), region=tuple(self.p.region), cells=self.cells,
+                    source=self.source.copy())

@@ -52,6 +52,9 @@ from .base import Reading, World, source_set
 
 __all__ = ["FORMS", "PlumeParams", "PlumeMismatch", "SensorFault", "PlumeWorld", "plume_length", "plume_rate"]
 
+#: Pixels along each side of the true mean-hits image of :meth:`PlumeWorld.figure_record`.
+IMAGE_PIXELS = 200
+
 @dataclass(frozen=True)
 class PlumeMismatch:
     """How the true plume differs from the nominal one (all 1 / 0: no mismatch).
@@ -222,6 +225,22 @@ class PlumeWorld(World):
         if observer < len(self.sensors):
             mu = self.sensors[observer].mean(mu, time=float(time), dwell=float(dwell))
         return Reading(float(rng.poisson(mu)), False, "hits")
+
+    def mean_hits_image(self, n: int = IMAGE_PIXELS) -> np.ndarray:
+        """The true mean number of hits per step (rate × the task's ``dt``, 1 when it has
+        none) on an `n` × `n` grid spanning :attr:`bounds`, corners included; row 0 at the
+        lowest y, shape (n, n)."""
+        (x0, x1), (y0, y1) = self.bounds
+        X, Y = np.meshgrid(np.linspace(x0, x1, n), np.linspace(y0, y1, n))
+        return self.rate(np.column_stack([X.ravel(), Y.ravel()])).reshape(X.shape) * self._extra.get("dt", 1.0)
+
+    def figure_record(self) -> dict:
+        """What the figures draw of the truth (:attr:`reciprocity.episode.Episode.truth`):
+        ``mean_hits`` (:meth:`mean_hits_image`, hits per step), ``bounds``
+        (``((x0, x1), (y0, y1))``, length unit), ``source`` (the first true source, (2,)) and
+        ``form`` (the rate's advection form, :data:`FORMS`)."""
+        return dict(mean_hits=self.mean_hits_image(), bounds=self.bounds, source=self.source.copy(),
+                    form=self.params.form)
 
     def contains(self, points) -> np.ndarray:
         p = np.atleast_2d(np.asarray(points, dtype=float))

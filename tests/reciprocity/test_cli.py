@@ -1,6 +1,7 @@
 """The reciprocity command line."""
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -46,6 +47,18 @@ def test_figures_are_drawn_from_the_episode_record(tmp_path):
     assert [name for name, _ in episode_figures(episode, arena)] == ["steps"]
     gradient = run("empty", "gradient", figures=True, **{**kw, "params": {"h": 4.0}})
     assert [name for name, _ in episode_figures(gradient, arena)] == ["path"]
+
+
+@pytest.mark.parametrize("scenario, strategy", [("song-100", "free-energy"), ("farrell", "hmm")])
+def test_a_plume_or_filament_run_draws_its_search_from_the_record(tmp_path, scenario, strategy):
+    import reciprocity
+    builtin = Path(reciprocity.__file__).parent / "data" / "scenarios" / f"{scenario}.yaml"
+    (tmp_path / "short.yaml").write_text(builtin.read_text().replace("max_steps:", "max_steps: 20  #"))
+    out = tmp_path / "out"
+    cheap = ["--set", "particles=100"] if strategy == "free-energy" else []
+    assert main(["run", "--scenario", str(tmp_path / "short.yaml"), "--strategy", strategy, "--quiet", *cheap,
+                 "--out", str(out)]) == 0
+    assert sorted(p.name for p in out.iterdir()) == [f"{strategy}_episode.json", f"{strategy}_walker_search.png"]
 
 
 def test_a_strategy_that_records_nothing_gets_no_figures(tmp_path):

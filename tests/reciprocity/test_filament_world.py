@@ -2,6 +2,7 @@
 divergence-free wind, reproducibility, bad input."""
 
 import time
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -114,3 +115,20 @@ def test_bad_input_is_one_line(over, words):
 def test_start_in_the_source_cell_is_refused():
     with pytest.raises(SearchError, match="source's cell"):
         execute("farrell", "random-walk", world={"start": [20.5, 1.0]}, params={"n_steps": 2})
+
+
+def test_the_figure_record_is_the_truth_at_the_end_and_changes_no_episode(tmp_path):
+    from reciprocity.api import run
+    from reciprocity.viz.hmm import plot_search, search_map_figure
+    sc = replace(load_scenario("farrell"), max_steps=30)
+    plain, ep = run(sc, "hmm", seed=2), run(sc, "hmm", seed=2, figures=True)
+    assert ep.summary == {**plain.summary, "wall_time_s": ep.summary["wall_time_s"]}
+    truth = ep.truth
+    assert truth["region"] == (0.0, 100.0, -50.0, 50.0) and truth["cells"] == (40, 25)
+    assert truth["source"].tolist() == ep.summary["source"]
+    assert truth["plume"]["filaments"].shape == (len(truth["plume"]["radii"]), 2)
+    assert ep.belief["source_map"].shape == (40 * 25,) and np.isclose(ep.belief["source_map"].sum(), 1.0)
+    assert len(search_map_figure(ep).axes) == 1
+    assert plot_search(ep, tmp_path / "hmm.png").stat().st_size > 10_000
+    with pytest.raises(SearchError, match="figures=True"):
+        search_map_figure(plain)

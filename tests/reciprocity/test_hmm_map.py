@@ -193,6 +193,9 @@ def test_most_likely_odour_path_under_the_uniform_flow_of_eq_18():
 
 
 def test_farrell_figures_are_written(tmp_path):
+    from reciprocity.kinds.filament import filament_params
+    from reciprocity.scenarios import load_scenario
     from reciprocity.viz.hmm import farrell_figures
-    (path,) = farrell_figures(tmp_path)
+    from reciprocity.worlds.filament_figures import farrell_record
+    (path,) = farrell_figures(farrell_record(filament_params(load_scenario("farrell").params)), tmp_path)
     assert path.exists() and path.stat().st_size > 20_000

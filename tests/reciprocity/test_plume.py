@@ -279,11 +279,21 @@ def test_bad_strategy_parameters(params, match):
 
 
 def test_search_figure_draws_the_path_hits_and_clouds():
-    from reciprocity.api import execute
     from reciprocity.viz.plume import search_figure
     sc = replace(load_scenario("song-100"), max_steps=25)
-    ep, strat, plats = execute(sc, "free-energy", seed=2, params=QUICK)
-    fig = search_figure(ep, strat, plats[0].world)
+    ep = run(sc, "free-energy", seed=2, params=QUICK, figures=True)
+    assert ep.summary == {**run(sc, "free-energy", seed=2, params=QUICK).summary,
+                          "wall_time_s": ep.summary["wall_time_s"]}       # the records change no episode
+    fig = search_figure(ep)
     path_ax = fig.axes[0]
     assert len(path_ax.lines[1].get_xdata()) == ep.summary["steps"] + 1   # start + one point a step
-    assert len(strat.snapshots) == 3                                      # steps 0, 10, 20
+    assert [step for step, _, _ in ep.belief["particles"]] == [0, 10, 20]
+    assert ep.truth["mean_hits"].shape == (200, 200) and ep.truth["form"] == "wind"
+    assert ep.truth["source"].tolist() == ep.summary["source"]
+
+
+def test_plume_figures_need_the_episodes_record():
+    from reciprocity.viz.plume import search_figure
+    sc = replace(load_scenario("song-100"), max_steps=2)
+    with pytest.raises(SearchError, match="figures=True"):
+        search_figure(run(sc, "free-energy", seed=2, params=QUICK))

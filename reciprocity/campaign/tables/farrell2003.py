@@ -39,16 +39,19 @@ def figures(directory: Path, spec: CampaignSpec) -> list[Path]:
     -------
     list of Path
     """
+    from ...kinds.filament import filament_params
+    from ...scenarios import load_scenario
     from ...viz.hmm import farrell_figures, plot_search
+    from ...worlds.filament_figures import farrell_record
     from ..worker import execute_task
     out = Path(directory) / "figures"
-    files = list(farrell_figures(out))
+    files = list(farrell_figures(farrell_record(filament_params(load_scenario("farrell").params)), out))
     for task in spec.tasks():
         if task.seed_index != 0:
             break
-        episode, strategy, platforms = execute_task(task)
-        files.append(plot_search(episode, strategy, platforms[0].world,
-                                 out / f"track_{task.variant.label.replace('[', '_').replace(']', '').replace('=', '-')}.png"))
+        episode = execute_task(task, figures=True)[0]
+        label = task.variant.label.replace('[', '_').replace(']', '').replace('=', '-')
+        files.append(plot_search(episode, out / f"track_{label}.png"))
     return files
 
 
