@@ -17,6 +17,7 @@ __getattr__, __dir__, __all__ = _lazy.attach(__name__, submod_attrs={
     "errors": ["HJPlannerError", "PlanningError"],
     "feedback": ["steering"],
     "paths": ["PlannedPath", "merge_short_segments", "optimal_path"],
+    "reach": ["FreeComponents", "ReachableRegion"],
     "solver": ["SolverOptions", "solve"],
     "value_function": ["ValueFunction"],
 })

@@ -638,6 +638,7 @@ class OnDemandPlanner:
         self.maxsize = int(maxsize)
         self.resolution = float(resolution) if resolution is not None else 0.1 * float(h)
         self._cache = OrderedDict()
+        self._components = None
         self.hits = 0
         self.misses = 0
 
@@ -682,6 +683,25 @@ class OnDemandPlanner:
         while len(self._cache) > self.maxsize:
             self._cache.popitem(last=False)
         return vf
+
+    def reachable_from(self, start) -> "ReachableRegion":
+        """The points a car at `start` (x, y) reaches on this planner's free nodes, by a
+        flood fill, with no value function solved (:mod:`hjplanner.reach`; for the
+        reversing car only). It may hold points behind gaps the solver's arcs cannot
+        thread (``benchmarks/reach_certify.py`` counts them).
+
+        Raises
+        ------
+        PlanningError
+            When the planner's car cannot reverse, or no free node lies near `start`.
+        """
+        from .reach import FreeComponents
+        if not self.workspace.reverse:
+            raise PlanningError("reachable_from needs a car that reverses (reverse=True): a forward-only "
+                                "car does not reach the whole of a connected free region")
+        if self._components is None:
+            self._components = FreeComponents(self.workspace.grid, self.workspace.free)
+        return self._components.region(start)
 
     #: A window covering more than this share of the grid's nodes is not worth it: the whole grid is solved.
     WINDOW_SHARE = 0.8
