@@ -31,21 +31,25 @@ again on the readings less the others' fields, within CONFIRM_RADIUS of its esti
 one whose region has not converged there is located again (the search measures around it
 as it did the first time) and its estimate replaced.
 
-**Explained readings.** Once two sources are found, after each reading and each new
-source, the found sources are settled together (:meth:`SourceBook.settle`): their
-strengths are refitted on all readings by non-negative least squares, and each position is
-re-imaged on the readings less the others' fields (within REFINE_RADIUS of where its
-region converged), in turn, until no estimate moves SETTLE_TOL (at most SETTLE_ROUNDS
-rounds). One source alone is not settled: on readings that a second, not yet found,
-source also explains, it would drift toward that source. A position found early, on readings that a
-source not yet found distorted, is thus corrected by the readings that came after. A found
-source that explains no reading is dropped: one whose removal raises the readings' χ²
-(weighted as the residual maps weight it) by less than ``2 LOG_DETECT``, the likelihood
-ratio a further source needs at the least. Their predicted
-readings carry a relative error RESIDUAL_ERROR, added in quadrature to the noise: a
-found source misplaced by 1 cm leaves residuals of about a tenth of its reading 5 cm
-away, which would otherwise look like a second source beside it. A further source is
-sought at least MIN_SEPARATION from those found.
+**Explained readings.** Once two sources are found, after each reading and each new or
+confirmed source, the found sources are settled together (:meth:`SourceBook.settle`):
+
+- a source whose map, on the readings less the others' fields over the whole region, peaks
+  more than REFINE_RADIUS away, where the readings' χ² falls by at least ``2 LOG_DETECT``,
+  moves there and is confirmed again: its region converged on readings that a source not
+  yet found distorted;
+- each position is re-imaged on the readings less the others' fields (within REFINE_RADIUS
+  of where its region converged) and the strengths refitted by non-negative least squares,
+  in turn, until no estimate moves SETTLE_TOL (at most SETTLE_ROUNDS rounds);
+- a source that explains no reading is dropped: one whose removal raises the χ² by less
+  than ``2 LOG_DETECT``, the likelihood ratio a further source needs at the least.
+
+One source alone is not settled: on readings that a second, not yet found, source also
+explains, it would drift toward that one. The χ² weighs each reading as the residual maps
+do: the found sources' predicted readings carry a relative error RESIDUAL_ERROR, added in
+quadrature to the noise (a found source misplaced by 1 cm leaves residuals of about a tenth
+of its reading 5 cm away, which would otherwise look like a second source beside it). A
+further source is sought at least MIN_SEPARATION from those found.
 """
 
 from __future__ import annotations

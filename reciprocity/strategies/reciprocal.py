@@ -776,7 +776,7 @@ class ReciprocityStrategy(Strategy):
             self.status.extra["p_more"] = more
             if more < self.more_tol and book.next_unconfirmed(self._converged) is None:
                 why = "as many as the task allows" if book.full else f"probability of one more {more:.3f} < more_tol"
-                self.notes["sources_dropped"] = book.dropped
+                self.notes.update(sources_dropped=book.dropped, sources_relocated=book.relocated)
                 if not book.full:       # the unreachable rule for the next source
                     out = self._more_out_of_reach()
                     self.notes["more_out_of_reach"] = round(out, 4)
