@@ -674,26 +674,31 @@ class CarPlatform(Platform):
 
     def _keep_body_off(self, here: np.ndarray, u: float, v: int) -> float:
         """`u`, or the command that keeps the body farther from the walls (see :meth:`_steer`)."""
-        now = self._body_gap(here)
-        if now >= BODY_MARGIN + BODY_LOOKAHEAD:
-            return u                # no command can close the gap within the look-ahead
-        rho = self.testbed.spec.rho
-        ahead = {c: self._body_gap(dead_reckon(here, c, v, BODY_LOOKAHEAD, rho)) for c in (u, -1.0, 0.0, 1.0)}
+        gaps = self._gaps_ahead(here, v)
+        if gaps is None:
+            return u
+        now, ahead = gaps
         if ahead[u] >= BODY_MARGIN or ahead[u] >= now:
             return u
+        ahead = {u: ahead[u], **ahead}                  # the law's command first among equals
         best = max(ahead, key=ahead.get)
         return best if ahead[best] > ahead[u] else u
 
     def _boxed_in(self, v: int) -> bool:
         """Whether every command in gear `v` brings the body within BODY_MARGIN of a wall
         in the next BODY_LOOKAHEAD of driving, closer than it is."""
-        here = self.testbed.estimate
+        gaps = self._gaps_ahead(self.testbed.estimate, v)
+        return gaps is not None and all(g < min(BODY_MARGIN, gaps[0]) for g in gaps[1].values())
+
+    def _gaps_ahead(self, here: np.ndarray, v: int) -> tuple[float, dict] | None:
+        """The body's distance to the walls at `here` and after BODY_LOOKAHEAD of driving
+        in gear `v` with each command (-1, 0, +1), cm; None when no command can bring it
+        within BODY_MARGIN in that distance."""
         now = self._body_gap(here)
         if now >= BODY_MARGIN + BODY_LOOKAHEAD:
-            return False
+            return None
         rho = self.testbed.spec.rho
-        return all(self._body_gap(dead_reckon(here, c, v, BODY_LOOKAHEAD, rho)) < min(BODY_MARGIN, now)
-                   for c in (-1.0, 0.0, 1.0))
+        return now, {c: self._body_gap(dead_reckon(here, c, v, BODY_LOOKAHEAD, rho)) for c in (-1.0, 0.0, 1.0)}
 
     def _body_gap(self, pose: np.ndarray) -> float:
         """The distance (cm) from the car's body at `pose` to the nearest wall of its map,
