@@ -216,3 +216,54 @@ def drive_runs(start, run_u, run_v, run_length, ds, rho):
             poses[at + k, 0], poses[at + k, 1], poses[at + k, 2] = px, py, pt
         at += n
     return poses, steps
+
+
+@njit(cache=True, nogil=True)
+def first_hits(rx, ry, shapes, s, fractions, adm, radius):
+    """Arc length along each clear stencil from nodes to a disk about the target: the
+    kernel of :func:`hjplanner.solver._first_hits`.
+
+    Parameters
+    ----------
+    rx, ry : numpy.ndarray
+        (n,) node positions relative to the target (length unit).
+    shapes : numpy.ndarray
+        (ntheta, nc, m, 3) poses along each stencil's arc from the origin, at the arc-length
+        ``fractions`` (m,) of the arc lengths ``s`` (nc,).
+    adm : numpy.ndarray
+        (ntheta, n) uint32 clear-arc bitmasks of the nodes.
+    radius : float
+        Radius of the disk.
+
+    Returns
+    -------
+    numpy.ndarray
+        (ntheta, n): the least arc length to the disk over the clear stencils that hit it,
+        placed between the last sample outside and the first inside by linear
+        interpolation of the distance to the disk; +inf where none does.
+    """
+    nt, nc, m = shapes.shape[0], shapes.shape[1], shapes.shape[2]
+    n = rx.shape[0]
+    df = fractions[1] - fractions[0]
+    out = np.full((nt, n), np.inf)
+    for k in range(nt):
+        for p in range(n):
+            best = np.inf
+            for c in range(nc):
+                if (adm[k, p] >> np.uint32(c)) & np.uint32(1) == 0:
+                    continue
+                before = 0.0
+                for q in range(m):
+                    d = np.hypot(rx[p] + shapes[k, c, q, 0], ry[p] + shapes[k, c, q, 1]) - radius
+                    if d <= 0:
+                        if q == 0:
+                            first = s[c] * fractions[0]
+                        else:
+                            step = before / (before - d)
+                            first = s[c] * (fractions[q - 1] + step * df)
+                        if first < best:
+                            best = first
+                        break
+                    before = d
+            out[k, p] = best
+    return out

@@ -37,7 +37,7 @@ from arenas.processes import die_with_parent
 
 from ._grid import Grid, make_grid
 from .errors import PlanningError
-from .solver import SolverOptions, Workspace, prepare, solve_in, target_is_free, window
+from .solver import SolverOptions, Workspace, prepare, prepared, solve_in, target_is_free, window
 from .value_function import ValueFunction
 
 __all__ = ["ValueFunctionBank", "OnDemandPlanner", "lattice_targets", "default_cache_dir", "cache_info",
@@ -634,7 +634,7 @@ class OnDemandPlanner:
     def __init__(self, domain, *, rho: float, h: float, ntheta: int, clearance: float = 0.0,
                  reverse: bool = False, options: SolverOptions | None = None, maxsize: int = 4,
                  resolution: float | None = None):
-        self.workspace = prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options)
+        self.workspace = prepared(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options)
         self.maxsize = int(maxsize)
         self.resolution = float(resolution) if resolution is not None else 0.1 * float(h)
         self._cache = OrderedDict()

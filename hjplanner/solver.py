@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+import threading
 import time
 import warnings
+from collections import OrderedDict
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from . import _sweep
 from ._grid import Grid, domain_geometry, lower_wall_distance, make_grid
-from ._motion import arc_samples, arc_step, sample_spacing
+from ._motion import arc_samples, arc_step, first_hits, sample_spacing
 from .dubins import local_exact
 from .errors import PlanningError
 from .limits import check_grid, length
@@ -86,6 +88,38 @@ def prepare(domain, rho: float, h: float, ntheta: int, *, clearance: float = 0.0
     stencils = build_stencils(float(rho), grid, ctrl, distance, free, float(clearance))
     return Workspace(grid, distance, free, domain_geometry(domain), float(rho), float(clearance), bool(reverse),
                      options, ctrl, stencils)
+
+
+#: Prepared workspaces kept per process by :func:`prepared` (one is a few MB: the clear-arc
+#: bitmask is ``4 ntheta nx ny`` bytes).
+PREPARED_KEEP = 4
+_PREPARED: OrderedDict = OrderedDict()
+_PREPARED_LOCK = threading.Lock()
+
+
+def prepared(domain, rho: float, h: float, ntheta: int, *, clearance: float = 0.0, reverse: bool = False,
+             options: SolverOptions | None = None) -> Workspace:
+    """:func:`prepare`, memoised per process on the domain's walls and the arguments.
+
+    The episodes of a campaign on one arena each build a planner for the same walls: they
+    share one workspace (a workspace is never modified after it is prepared). The last
+    :data:`PREPARED_KEEP` are kept, least recently used dropped first.
+    """
+    geometry = domain_geometry(domain)
+    walls = (geometry["name"], geometry["boundary"].tobytes(), geometry["boundary"].shape,
+             tuple((o.tobytes(), o.shape) for o in geometry["obstacles"]))
+    knobs = None if options is None else tuple(sorted((k, repr(v)) for k, v in vars(options).items()))
+    key = (walls, float(rho), float(h), int(ntheta), float(clearance), bool(reverse), knobs)
+    with _PREPARED_LOCK:
+        if key in _PREPARED:
+            _PREPARED.move_to_end(key)
+            return _PREPARED[key]
+    ws = prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options)
+    with _PREPARED_LOCK:
+        _PREPARED[key] = ws
+        while len(_PREPARED) > PREPARED_KEEP:
+            _PREPARED.popitem(last=False)
+    return ws
 
 
 def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], distance: np.ndarray,
@@ -206,24 +240,15 @@ def _first_hits(ws: Workspace, gx, gy, dist, target, radius: float) -> np.ndarra
     near = np.nonzero(free & (dist <= radius + s.max() + grid.h))
     bc[:, free & (dist <= radius)] = 0.0
     fractions = np.linspace(0.0, 1.0, 33)
-    bit = np.uint32(1) << np.arange(len(s), dtype=np.uint32)
     # An arc's shape depends on the heading only: sample it once per (heading, control) from the origin.
     origins = np.column_stack([np.zeros(grid.ntheta), np.zeros(grid.ntheta), grid.theta])
     shapes = arc_step(origins[:, None, None, :], u[None, :, None], v[None, :, None], s[None, :, None] * fractions,
                       ws.rho)  # (ntheta, nc, 33, 3)
     rx, ry = gx[near] - target[0], gy[near] - target[1]
-    for k in range(grid.ntheta):
-        outside = np.hypot(rx[:, None, None] + shapes[k, :, :, 0], ry[:, None, None] + shapes[k, :, :, 1]) - radius
-        hit = outside <= 0
-        m = np.argmax(hit, axis=-1)
-        before = np.take_along_axis(outside, np.maximum(m - 1, 0)[..., None], -1)[..., 0]
-        after = np.take_along_axis(outside, m[..., None], -1)[..., 0]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            step = np.where(m > 0, before / (before - after), 0.0)
-        first = s * (fractions[np.maximum(m - 1, 0)] + step * (fractions[1] - fractions[0]) * (m > 0))
-        clear = (ws.stencils["adm"][k][near][:, None] & bit) != 0
-        first = np.where(hit.any(axis=-1) & clear, first, np.inf).min(axis=1)
-        bc[k][near] = np.minimum(bc[k][near], first)
+    adm = np.ascontiguousarray(ws.stencils["adm"][:, near[0], near[1]])
+    hits = first_hits(np.ascontiguousarray(rx), np.ascontiguousarray(ry), np.ascontiguousarray(shapes), s,
+                      fractions, adm, float(radius))
+    bc[:, near[0], near[1]] = np.minimum(bc[:, near[0], near[1]], hits)
     bc[:, ~free] = np.inf
     return bc
 

@@ -240,3 +240,25 @@ def test_plot_uses_world_extent(floor):
     assert tuple(im.get_extent()) == floor.extent
     assert im.get_clim() == (0, 255)
     plt.close(ax.figure)
+
+
+def test_floors_of_one_arena_share_their_free_pixels(arena):
+    """Two fields painted on one arena (a campaign's episodes) find the free pixels once, and
+    the shared grid is the arena's own ``contains`` at the pixel centres."""
+    from arenas.floor import free_pixels
+    from arenas.frames import pixel_to_world
+
+    free_pixels.cache_clear()
+    a = render_floor(arena, lambda p: 100 - p[:, 0], px_per_mm=0.5)
+    b = render_floor(arena.with_scenario(source=(5.0, 5.0)), lambda p: 1 + p[:, 1], px_per_mm=0.5)
+    info = free_pixels.cache_info()
+    assert (info.hits, info.misses) == (1, 1)
+    free, centres = free_pixels(arena.without_scenario(), 5.0)
+    h, w = a.image.shape
+    rows, cols = np.mgrid[0:h, 0:w]
+    origin = (arena.bounds[0][0], arena.bounds[1][0])
+    every = pixel_to_world(np.column_stack([cols.ravel(), rows.ravel()]), 0.2, h, origin)
+    np.testing.assert_array_equal(free, arena.contains(every))
+    np.testing.assert_array_equal(centres, every[free])
+    assert not free.flags.writeable and not centres.flags.writeable
+    assert b.image.shape == a.image.shape
