@@ -57,7 +57,18 @@ class CountPosterior(Belief):
         self.n = 0
         #: every reading conditioned on, in order: (rate, count, dwell); :meth:`first` replays them
         self.readings: list[tuple[np.ndarray, float, float]] = []
+        #: candidates the prior allows (:meth:`restrict`); all by default
+        self.allowed = np.ones(len(self.nodes), dtype=bool)
         self._cache: dict = {}
+
+    def restrict(self, allowed: np.ndarray) -> None:
+        """Give the candidates outside `allowed` (n,) bool no prior mass (e.g. nearer the walls
+        than the task says a source can be). A mask that allows none is refused."""
+        allowed = np.asarray(allowed, dtype=bool)
+        if allowed.shape != self.allowed.shape or not (allowed & self.allowed).any():
+            raise ValueError(f"restrict needs a mask of {len(self.nodes)} candidates that keeps at least one")
+        self.allowed = self.allowed & allowed
+        self._cache.clear()
 
     def add(self, rate: np.ndarray, count: float, dwell: float) -> None:
         """Condition on `count` hits over `dwell` s, with `rate` (n,) the mean hits per
@@ -74,6 +85,7 @@ class CountPosterior(Belief):
         """The posterior after the first `k` readings alone (for figures of each step)."""
         out = CountPosterior(self.nodes, self.areas, (self.rates[0], self.rates[-1]),
                              background=self.background, cells=len(self.rates))
+        out.allowed = self.allowed.copy()
         for rate, count, dwell in self.readings[:k]:
             out.add(rate, count, dwell)
         return out
@@ -93,7 +105,7 @@ class CountPosterior(Belief):
 
     def weights(self) -> np.ndarray:
         if "w" not in self._cache:
-            lm = self.log_marginal()
+            lm = np.where(self.allowed, self.log_marginal(), -np.inf)
             w = self.areas * np.exp(lm - lm.max())
             self._cache["w"] = w / w.sum()
         return self._cache["w"]

@@ -61,6 +61,8 @@ MAX_STEPS = 80
 D_READ = 3.0
 #: Background count rate of the likelihood, hits/s (see :class:`CountPosterior`).
 BACKGROUND = 0.01
+#: Largest ``source_clearance`` and ``clearance``, cm.
+MAX_CLEARANCE = 100.0
 
 
 def told_physics(nominal: dict) -> FlowParams:
@@ -156,6 +158,10 @@ class WindReciprocity(Strategy):
         Points read keep this distance from the walls, cm.
     background : float
         Background count rate of the likelihood, hits/s.
+    source_clearance : "task" or float
+        The prior keeps every possible source at least this far (cm, less one mesh size)
+        from the walls: ``"task"`` (default) takes the task's public ``source_clearance``
+        (0, anywhere, when the task says nothing), as the Poisson search does.
     """
 
     name = "reciprocity-wind"
@@ -166,7 +172,7 @@ class WindReciprocity(Strategy):
 
     def __init__(self, *, h: float = 2.0, d: float = D_READ, reach: float = 12.0, credible_radius: float = 3.0,
                  credible_mass: float = 0.95, max_steps: int = MAX_STEPS, clearance: float = 3.0,
-                 background: float = BACKGROUND):
+                 background: float = BACKGROUND, source_clearance: float | str = "task"):
         super().__init__()
         self.h = number(h, "h", 0.25, 20.0, unit="cm")
         self.d = number(d, "d", 0.0, 1e3, lo_open=True, unit="cm")
@@ -176,11 +182,14 @@ class WindReciprocity(Strategy):
         self.max_steps = whole(max_steps, "max_steps", 1, 100_000)
         self.clearance = number(clearance, "clearance", 0.0, 100.0, unit="cm")
         self.background = number(background, "background", 0.0, 1e6, lo_open=True, unit="hits/s")
+        self.source_clearance = source_clearance if source_clearance == "task" else \
+            number(source_clearance, "source_clearance", 0.0, MAX_CLEARANCE, unit="cm")
 
     def params(self) -> dict:
         return dict(h=self.h, d=self.d, reach=self.reach, credible_radius=self.credible_radius,
                     credible_mass=self.credible_mass, max_steps=self.max_steps, clearance=self.clearance,
-                    background=self.background)
+                    background=self.background, source_clearance=self.source_clearance,
+                    source_clearance_used=getattr(self, "clearance_used", None))
 
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
@@ -191,11 +200,22 @@ class WindReciprocity(Strategy):
         q = float(ctx.nominal["strength"])
         self.belief = CountPosterior(self.space.points, self.space.cell_areas, (q / 10.0, q * 10.0),
                                      background=self.background)
+        self._keep_off_walls(ctx.nominal)
         self._reachable = self.space.reachable_from(ctx.start[:2], self.clearance)
         self._far = np.ones(len(self.space.points), dtype=bool)
         self._next = np.asarray(ctx.start[:2], dtype=float).copy()
         if not self._reachable.any():
             self.stop(StopReason.UNREACHABLE, "no observation point is reachable")
+
+    def _keep_off_walls(self, nominal: dict) -> None:
+        """No prior mass nearer the walls than the source clearance in use, less one mesh
+        size (a clearance that would leave no node leaves the prior as it is)."""
+        self.clearance_used = float(nominal.get("source_clearance", 0.0)) \
+            if self.source_clearance == "task" else float(self.source_clearance)
+        if self.clearance_used > 0:
+            allowed = self.space.wall_distance >= self.clearance_used - self.h
+            if allowed.any():
+                self.belief.restrict(allowed)
 
     def figure_record(self) -> dict:
         """``posterior``: the belief over (node, release rate), whose :meth:`~CountPosterior.first`

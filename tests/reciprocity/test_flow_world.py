@@ -160,3 +160,37 @@ def test_the_figures_replay_the_posterior_from_the_episode_record():
     assert np.all(np.isfinite(episode.truth["wind"](np.array([[10.0, 20.0]]))))
     arena = _scenario().arena.with_scenario(start=episode.summary["start"])
     assert [name for name, _ in episode_figures(episode, arena)] == ["steps"]
+
+
+def test_a_count_posterior_restricted_to_some_candidates_gives_the_rest_no_mass():
+    from reciprocity.beliefs.counts import CountPosterior
+    nodes = np.array([[0.0, 0.0], [5.0, 0.0], [10.0, 0.0]])
+    post = CountPosterior(nodes, np.ones(3), (1.0, 100.0), background=0.0)
+    post.add(np.array([0.3, 0.2, 0.001]), count=5, dwell=1.0)
+    before = post.weights().copy()
+    post.restrict(np.array([False, True, True]))
+    w = post.weights()
+    assert w[0] == 0 and np.isclose(w.sum(), 1) and np.isclose(w[1] / w[2], before[1] / before[2])
+    assert np.array_equal(post.first(0).weights(), [0.0, 0.5, 0.5])     # the replayed steps keep the prior
+    with pytest.raises(ValueError, match="keeps at least one"):
+        post.restrict(np.array([True, False, False]))
+
+
+@pytest.mark.parametrize("param, used", [("task", 6.0), (0.0, 0.0), (3.0, 3.0)])
+def test_reciprocity_in_wind_keeps_its_prior_off_the_walls_the_task_names(param, used):
+    """The task's public ``source_clearance`` (or the parameter) empties the prior nearer the
+    walls than it, less one mesh size; 0 leaves every node."""
+    env = SearchEnv(_scenario(source_clearance=6))
+    _, info = env.reset(seed=SEED)
+    task = info["task"]
+    assert task.nominal["source_clearance"] == 6
+    strat = WindReciprocity(h=MODEL_H, source_clearance=param)
+    strat.start(SearchContext(task.world, task.nominal, np.array(task.starts), np.random.default_rng(0)))
+    assert strat.params()["source_clearance_used"] == used
+    w, wall = strat.belief.weights(), strat.space.wall_distance
+    assert np.all(w[wall < used - MODEL_H] == 0) and np.all(w[wall >= used - MODEL_H] > 0)
+
+
+def test_a_bad_source_clearance_of_the_wind_search_is_refused():
+    with pytest.raises(SearchError, match="source_clearance must be a number"):
+        WindReciprocity(source_clearance="far")
