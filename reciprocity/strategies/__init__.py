@@ -34,6 +34,8 @@ STRATEGIES: LazyRegistry = LazyRegistry(__name__, {
     "detection-infotaxis": "DetectionInfotaxis",
     "reciprocity-wind": "WindReciprocity",
     "free-space-wind": "FreeSpaceWind",
+    "infotaxis-wind": "WindInfotaxis",
+    "free-space-infotaxis-wind": "FreeSpaceWindInfotaxis",
     "infotaxis-ii": "InfotaxisII",
     "infotaxis-iii": "InfotaxisIII",
 })
@@ -60,6 +62,7 @@ __getattr__, _, _ = _lazy.attach(__name__, submod_attrs={
     "random_walk": ["RandomWalkStrategy"],
     "rbpf": ["RBPFInfotaxisStrategy", "RBPFStrategy"],
     "reciprocal": ["ReciprocityStrategy"],
+    "wind_infotaxis": ["FreeSpaceWindInfotaxis", "WindInfotaxis"],
     "wind_reciprocity": ["FreeSpaceWind", "WindReciprocity"],
     "reward_infotaxis": ["InfotaxisII", "InfotaxisIII"],
 })
