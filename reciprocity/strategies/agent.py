@@ -20,10 +20,13 @@ class StrategyAgent:
 
     Parameters
     ----------
-    factory : type or Strategy
-        The strategy class (``reciprocity.strategies.STRATEGIES[name]``), built anew at
-        every reset; or a strategy already built (started afresh at every reset, its
-        parameters as given).
+    factory : EpisodeSpec, type or Strategy
+        The checked :class:`~reciprocity.env.spec.EpisodeSpec` of the episode
+        (:func:`reciprocity.api.check`: its strategy class and parameters, taken without
+        checking again; the strategy the check built serves the first reset); or the
+        strategy class (``reciprocity.strategies.STRATEGIES[name]``), built anew at every
+        reset; or a strategy already built (started afresh at every reset, its parameters
+        as given).
     params : dict, optional
         The strategy's parameters (with a class). The task's platform limits (the car's
         ``clearance``, the sensor's ``i_max``) fill those the strategy accepts and `params`
@@ -36,6 +39,11 @@ class StrategyAgent:
     def __init__(self, factory, params: dict | None = None, *, figures: bool = False):
         if isinstance(factory, Strategy) and params:
             raise TypeError("give params with a strategy class, not with a strategy already built")
+        self._spec = factory if hasattr(factory, "strategy_class") else None   # an EpisodeSpec
+        if self._spec is not None:
+            if params:
+                raise TypeError("an EpisodeSpec brings its strategy's params; give none")
+            factory, params = self._spec.strategy_class, self._spec.params
         self._factory = factory
         self._params = dict(params or {})
         self._figures = bool(figures)
@@ -51,13 +59,10 @@ class StrategyAgent:
             for key, value in task.limits.items():
                 if key in accepted:
                     params.setdefault(key, value)
-            strategy = self._factory(**params)
-        if task.world not in strategy.worlds:
-            raise SearchError(f"strategy {strategy.name!r} does not apply to {task.world!r} worlds "
-                              f"(it supports {', '.join(strategy.worlds)})")
-        if strategy.agents is not None and strategy.agents != task.n_agents:
-            raise SearchError(f"strategy {strategy.name!r} directs {strategy.agents} observer(s); "
-                              f"got {task.n_agents}")
+            built = self._spec.take_strategy(params) if self._spec is not None else None
+            strategy = built if built is not None else self._factory(**params)
+        if self._spec is None:
+            _check_fits(strategy, task)
         self.strategy = strategy
         self.messages = MessageLog()
         strategy.start(SearchContext(task.world, task.nominal, np.array(task.starts),
@@ -101,6 +106,16 @@ class StrategyAgent:
                       estimates_sd=_array(getattr(s, "estimates_sd", None)),
                       notes=dict(getattr(s, "notes", None) or {}),
                       figures=s.figure_record() if self._figures else {})
+
+
+def _check_fits(strategy: Strategy, task: Task) -> None:
+    """Refuse a strategy (not checked by an EpisodeSpec) that cannot search `task`."""
+    if task.world not in strategy.worlds:
+        raise SearchError(f"strategy {strategy.name!r} does not apply to {task.world!r} worlds "
+                          f"(it supports {', '.join(strategy.worlds)})")
+    if strategy.agents is not None and strategy.agents != task.n_agents:
+        raise SearchError(f"strategy {strategy.name!r} directs {strategy.agents} observer(s); "
+                          f"got {task.n_agents}")
 
 
 def _array(value) -> np.ndarray | None:
