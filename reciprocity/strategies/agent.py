@@ -11,6 +11,7 @@ from ..observations import SENSING_KINDS, MessageLog
 from ..outcome import Stop, StopReason
 from ..task import Percept, Report, Task
 from .base import SearchContext, Status, Strategy
+from .map_steps import with_map_steps
 
 __all__ = ["StrategyAgent"]
 
@@ -33,7 +34,9 @@ class StrategyAgent:
         leaves out.
     figures : bool
         Keep what the figures draw of the strategy's belief (its
-        :meth:`~reciprocity.strategies.base.Strategy.figure_record`) in the report.
+        :meth:`~reciprocity.strategies.base.Strategy.figure_record`) in the report; on an
+        unknown map also the believed map step by step
+        (:func:`~reciprocity.strategies.map_steps.with_map_steps`, from the percepts).
     """
 
     def __init__(self, factory, params: dict | None = None, *, figures: bool = False):
@@ -47,6 +50,7 @@ class StrategyAgent:
         self._factory = factory
         self._params = dict(params or {})
         self._figures = bool(figures)
+        self._percepts: list[Percept] = []
         self.strategy: Strategy | None = None
         self.messages = MessageLog()
 
@@ -65,6 +69,7 @@ class StrategyAgent:
             _check_fits(strategy, task)
         self.strategy = strategy
         self.messages = MessageLog()
+        self._percepts: list[Percept] = []                      # for the figures' records only
         strategy.start(SearchContext(task.world, task.nominal, np.array(task.starts),
                                      np.random.default_rng(seed), self.messages, tuple(task.intents)))
         if task.reachable is not None:
@@ -79,6 +84,8 @@ class StrategyAgent:
         return self.strategy.propose()
 
     def observe(self, percept: Percept, intent) -> None:
+        if self._figures:
+            self._percepts.append(percept)
         if percept.unreachable is not None:
             point, reason = percept.unreachable
             self.strategy.reject(intent, point, reason, percept.agent)
@@ -105,7 +112,7 @@ class StrategyAgent:
                       estimates=_array(getattr(s, "estimates", None)),
                       estimates_sd=_array(getattr(s, "estimates_sd", None)),
                       notes=dict(getattr(s, "notes", None) or {}),
-                      figures=s.figure_record() if self._figures else {})
+                      figures=with_map_steps(s.figure_record(), self._percepts) if self._figures else {})
 
 
 def _check_fits(strategy: Strategy, task: Task) -> None:

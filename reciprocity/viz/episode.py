@@ -35,7 +35,7 @@ def episode_figures(episode: Episode, arena: Arena | None):
     (``belief["steps"]``, as Fig. 4), the posterior on hit counts step by step
     (``belief["posterior"]``, over the true ``truth["wind"]``) or else the run over the
     true signal (Fig. 5: the painted floor ``truth["floor"]`` or the true ``truth["field"]``, with
-    ``belief["gradients"]``); the believed map step by step (``belief["mapping"]``: an
+    ``belief["gradients"]``); the believed map step by step (``belief["map_steps"]``: an
     unknown map, against ``truth["true_arena"]``).
 
     Parameters
@@ -77,5 +77,5 @@ def episode_figures(episode: Episode, arena: Arena | None):
     else:
         yield "path", gradient_run_figure(episode, truth.get("field"), arena, belief.get("gradients", ()),
                                           floor=truth.get("floor"))
-    if "mapping" in belief:
+    if "map_steps" in belief:
         yield "map_steps", mapping_steps_figure(episode, truth["true_arena"])
