@@ -75,7 +75,9 @@ def check(scenario: str | Scenario | Arena | EpisodeSpec, strategy: str, *, para
     ----------
     scenario : str, Scenario, arenas.Arena or EpisodeSpec
         A built-in scenario name, a YAML file, a Scenario, or an arena; an EpisodeSpec
-        already checked for `strategy` is returned as it is (with `seeds` added).
+        already checked for `strategy` is returned as it is (with `seeds` added); another
+        spec (e.g. an environment's alone) is checked for `strategy` with its scenario,
+        platform and options (and its number of observers when it names no strategy).
     strategy : str
         A strategy name (``reciprocity strategies``).
     params, platform, agents, world, platform_options
@@ -100,8 +102,12 @@ def check(scenario: str | Scenario | Arena | EpisodeSpec, strategy: str, *, para
     if isinstance(scenario, EpisodeSpec) and scenario.strategy == strategy and \
             not (params or platform or agents is not None or world or platform_options):
         return replace(scenario, seeds=tuple(dict.fromkeys(scenario.seeds + seeds)))
-    sc = scenario.scenario if isinstance(scenario, EpisodeSpec) else scenario
-    sc = sc if isinstance(sc, Scenario) else load_scenario(sc)
+    if isinstance(scenario, EpisodeSpec):              # another strategy, or overrides: its own choices kept
+        platform = platform or scenario.platform
+        agents = scenario.agents if agents is None and scenario.strategy is None else agents
+        platform_options = platform_options or dict(scenario.platform_options)
+        scenario = scenario.scenario
+    sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     sc = sc.with_world(world)
     cls = _strategy_class(strategy)
     if sc.world not in cls.worlds:
