@@ -17,7 +17,8 @@ from shapely.validation import explain_validity
 
 from .errors import ArenaError
 
-__all__ = ["Arena", "as_points", "DEFAULT_STRENGTH", "MAX_COORD_CM", "MAX_STRENGTH", "MAX_VERTICES"]
+__all__ = ["Arena", "as_points", "check_strength", "DEFAULT_STRENGTH", "MAX_COORD_CM", "MAX_STRENGTH",
+           "MAX_VERTICES"]
 
 #: Default source strength ``c``: puts the built-in arenas' signal on a 0-255 scale.
 DEFAULT_STRENGTH = 850.0
@@ -100,6 +101,16 @@ def _geometry_only(arena: "Arena") -> "Arena":
             _GEOMETRY.popitem(last=False)
     _GEOMETRY.move_to_end(key)
     return _GEOMETRY[key]
+
+
+def check_strength(value, what: str = "strength") -> float:
+    """`value` as a source strength c in (0, :data:`MAX_STRENGTH`] (ArenaError naming
+    `what` otherwise): the one check of a strength given with an arena's scenario or on
+    the command line (``--strength``)."""
+    ok = isinstance(value, Real) and not isinstance(value, bool) and 0 < float(value) <= MAX_STRENGTH
+    if not ok:
+        raise ArenaError(f"{what} must be a number in (0, {MAX_STRENGTH:g}]; got {value!r}")
+    return float(value)
 
 
 @dataclass(frozen=True, eq=False)
@@ -219,11 +230,7 @@ class Arena:
         if clear > 0 and src is not None and self.wall_distance(src)[0] < clear - 1e-9:
             raise ArenaError(f"the source ({src[0]:g}, {src[1]:g}) lies {self.wall_distance(src)[0]:.3g} cm "
                              f"from the walls, nearer than its source_clearance of {clear:g} cm")
-        ok = strength is None or (isinstance(strength, Real) and not isinstance(strength, bool)
-                                  and 0 < float(strength) <= MAX_STRENGTH)
-        if not ok:
-            raise ArenaError(f"strength must be a number in (0, {MAX_STRENGTH:g}]; got {strength!r}")
-        c = self.strength if strength is None else float(strength)
+        c = self.strength if strength is None else check_strength(strength)
         st = self.start
         if start is not None:
             s = np.asarray(start, dtype=float).ravel()

@@ -16,7 +16,7 @@ import numpy as np
 
 import arenas
 from reciprocity.viz.figures import field_figure
-from reciprocity import execute
+from reciprocity import run
 
 
 def draw_floor_plan(path: Path) -> Path:
@@ -39,9 +39,8 @@ def main(out_dir="out/examples", seed: int = 0) -> float:
     arenas.save(arena, out / "floor_plan.yaml")
     # the strategy does not know c = 500: it fits it at every candidate point, and picks
     # each next point by the expected information of its reading
-    episode, strategy, platforms = execute(arena, "reciprocity", seed=seed,
-                                           params=dict(h=1.0, strength=None, rule="info"))
-    field_figure(platforms[0].world.field, arena, title="drawn arena: the true signal").savefig(
+    episode = run(arena, "reciprocity", seed=seed, params=dict(h=1.0, strength=None, rule="info"), figures=True)
+    field_figure(episode.truth["field"], arena, title="drawn arena: the true signal").savefig(
         out / "floor_plan_signal.png", dpi=120)
     s = episode.summary
     print(f"{len(arena.obstacles)} obstacles from the picture; {s['n_measurements']} measurements, "

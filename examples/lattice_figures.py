@@ -15,7 +15,6 @@ import numpy as np
 
 import reciprocity.api as api
 from reciprocity.env import SearchEnv, rollout
-from reciprocity.strategies import STRATEGIES
 from reciprocity.strategies.agent import StrategyAgent
 from reciprocity.viz.lattice import lattice_figure, search_figure, snapshot
 
@@ -32,23 +31,23 @@ def main(argv=None) -> None:
     out.mkdir(parents=True, exist_ok=True)
     at = {int(s) for s in a.steps.split(",")}
     world = {} if a.lattice_seed is None else {"lattice_seed": a.lattice_seed}
-    sc = api.check("ristic-lattice", a.strategy, world=world)
-    env, agent = SearchEnv(sc), StrategyAgent(STRATEGIES[a.strategy])
+    spec = api.check("ristic-lattice", a.strategy, world=world, seeds=a.seed)
+    env, agent = SearchEnv(spec), StrategyAgent(spec, figures=True)
     path, snaps = [], []
 
     def progress(rec):
         if not path:                             # the first move's route begins at the start
             path.append(rec.route[0].tolist())
-        path.append(rec.route[-1].tolist())
-        if rec.step in at:
-            snaps.append(snapshot(rec.step, agent.strategy, env.platforms[0], path))
+        path.append(rec.route[-1].tolist())      # the routes hold the true positions
+        if rec.step in at:                       # the searcher's record of its belief now
+            snaps.append(snapshot(rec.step, agent.strategy.figure_record(), path[-1], path))
 
-    ep = rollout(env, agent, a.seed, progress=progress)
-    w, start = env.world, np.atleast_2d(ep.summary["start"])
+    ep = rollout(env, agent, a.seed, progress=progress, figures=True)
+    start = np.atleast_2d(ep.summary["start"])
     path = path or [start[0, :2].tolist()]
-    snaps.append(snapshot(ep.summary["steps"], agent.strategy, env.platforms[0], path))
-    lattice_figure(w, start=start[0], path=np.array(path)).savefig(out / "lattice.png", dpi=90)
-    search_figure(w, snaps).savefig(out / "search.png", dpi=80)
+    snaps.append(snapshot(ep.summary["steps"], ep.belief, path[-1], path))
+    lattice_figure(ep.truth, start=start[0], path=np.array(path)).savefig(out / "lattice.png", dpi=90)
+    search_figure(ep.truth, snaps).savefig(out / "search.png", dpi=80)
     s = ep.summary
     print(f"{s['stop_reason']} after {s['steps']} steps; estimate {np.round(s['estimate'], 2).tolist()}, "
           f"slips {s['slips']}; figures in {out}")

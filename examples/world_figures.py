@@ -40,9 +40,9 @@ def _scenario(name: str, quick: bool, max_steps: int):
 
 def poisson(out: Path, quick: bool) -> None:
     """The paper arena's true field with the reciprocity search's readings."""
-    episode, _, platforms = r.execute("paper", "reciprocity", seed=3, params={"h": 2.0 if quick else 1.0})
-    world = platforms[0].world
-    fig = field_figure(world.field, world.arena, title="poisson: the true field of paper, and a search")
+    episode = r.run("paper", "reciprocity", seed=3, params={"h": 2.0 if quick else 1.0}, figures=True)
+    truth = episode.truth                        # the environment's record: the true field and walls
+    fig = field_figure(truth["field"], truth["true_arena"], title="poisson: the true field of paper, and a search")
     route = np.vstack([rec.route[:, :2] for rec in episode.records if len(rec.route)])
     points = np.array([o.position[:2] for rec in episode.records for o in rec.observations])
     fig.axes[0].plot(route[:, 0], route[:, 1], "-", color="red", lw=1)
@@ -52,10 +52,10 @@ def poisson(out: Path, quick: bool) -> None:
 
 def lattice(out: Path, quick: bool) -> None:
     """The true lattice and the RBPF searcher's path."""
-    episode, _, platforms = r.execute(_scenario("ristic-lattice", quick, 20), "rbpf", seed=1)
+    episode = r.run(_scenario("ristic-lattice", quick, 20), "rbpf", seed=1, figures=True)
     path = np.array([o.position[:2] for rec in episode.records for o in rec.observations])
     start = np.atleast_2d(episode.summary["start"])[0]
-    lattice_figure(platforms[0].world, start=start, path=path).savefig(out / FIGURES[1], dpi=100)
+    lattice_figure(episode.truth, start=start, path=path).savefig(out / FIGURES[1], dpi=100)
 
 
 def plume(out: Path, quick: bool) -> None:

@@ -9,17 +9,22 @@ any heavy work (no meshing, no factorization); :func:`run` runs one episode;
 from __future__ import annotations
 
 import inspect
+from dataclasses import replace
+
+import numpy as np
 
 from arenas import Arena
 
+from .env.spec import (EpisodeSpec, check_team, checked_agents, checked_options, checked_platform,
+                       checked_seed)
 from .episode import Episode
 from .errors import SearchError
-from .scenarios import MAX_AGENTS, Scenario, load_scenario
+from .scenarios import Scenario, load_scenario
 from .strategies import STRATEGIES, Strategy
 from .strategies.parameter_bounds import STRATEGY_BOUNDS
-from .validation import check_bounds, whole
+from .validation import check_bounds
 
-__all__ = ["run", "check", "execute", "make_strategy", "strategy_parameters"]
+__all__ = ["run", "check", "execute", "make_strategy", "strategy_parameters", "EpisodeSpec"]
 
 
 def strategy_parameters(name: str) -> list[str]:
@@ -28,103 +33,146 @@ def strategy_parameters(name: str) -> list[str]:
     return [p.name for p in sig.parameters.values() if p.kind is p.KEYWORD_ONLY]
 
 
-def make_strategy(name: str, **params) -> Strategy:
-    """Build the strategy called `name` (see :data:`reciprocity.strategies.STRATEGIES`);
-    an unknown or invalid parameter raises SearchError naming the valid ones."""
-    if name not in STRATEGIES:
-        raise SearchError(f"unknown strategy {name!r}; choose one of {', '.join(STRATEGIES)}")
+def _checked_params(name: str, params: dict) -> None:
+    """Refuse parameters strategy `name` does not take, or out of their bounds."""
     valid = strategy_parameters(name)
     unknown = sorted(set(params) - set(valid))
     if unknown:
         raise SearchError(f"unknown parameter(s) {', '.join(unknown)} for strategy {name!r}; "
                           f"valid: {', '.join(valid)}")
     check_bounds(params, STRATEGY_BOUNDS.get(name, {}), where=f"strategy {name!r}: ")
+
+
+def _strategy_class(name: str) -> type:
+    if name not in STRATEGIES:
+        raise SearchError(f"unknown strategy {name!r}; choose one of {', '.join(STRATEGIES)}")
+    return STRATEGIES[name]
+
+
+def make_strategy(name: str, **params) -> Strategy:
+    """Build the strategy called `name` (see :data:`reciprocity.strategies.STRATEGIES`);
+    an unknown or invalid parameter raises SearchError naming the valid ones."""
+    cls = _strategy_class(name)
+    _checked_params(name, params)
+    return _built(cls, name, params)
+
+
+def _built(cls: type, name: str, params: dict) -> Strategy:
     try:
-        return STRATEGIES[name](**params)
+        return cls(**params)
     except (TypeError, ValueError) as exc:
         raise SearchError(f"bad parameter for strategy {name!r}: {exc}") from None
 
 
-def check(scenario: str | Scenario | Arena, strategy: str, *, params: dict | None = None,
+def check(scenario: str | Scenario | Arena | EpisodeSpec, strategy: str, *, params: dict | None = None,
           platform: str | None = None, agents: int | None = None, world: dict | None = None,
-          platform_options: dict | None = None) -> Scenario:
-    """Validate a combination before any heavy work; return the scenario (with the
-    world overrides applied).
+          platform_options: dict | None = None, seeds=()) -> EpisodeSpec:
+    """Validate an episode before any heavy work, once: the one :class:`EpisodeSpec`
+    every front door builds and :class:`~reciprocity.env.SearchEnv` and the strategy's
+    agent take without checking again.
+
+    Parameters
+    ----------
+    scenario : str, Scenario, arenas.Arena or EpisodeSpec
+        A built-in scenario name, a YAML file, a Scenario, or an arena; an EpisodeSpec
+        already checked for `strategy` is returned as it is (with `seeds` added); another
+        spec (e.g. an environment's alone) is checked for `strategy` with its scenario,
+        platform and options (and its number of observers when it names no strategy).
+    strategy : str
+        A strategy name (``reciprocity strategies``).
+    params, platform, agents, world, platform_options
+        As :func:`run`.
+    seeds : int or iterable of int
+        Episode seeds to check with the spec (whole numbers >= 0).
+
+    Returns
+    -------
+    EpisodeSpec
+        Its ``scenario`` has the world overrides applied. The strategy it was checked by
+        building is handed to the first episode's agent (a run builds it once).
 
     Raises
     ------
     SearchError
         Unknown scenario or strategy, a strategy that does not apply to the scenario's
-        world, an unknown or invalid parameter, platform, platform option or agent count.
+        world, an unknown or invalid parameter, platform, platform option, agent count
+        or seed.
     """
+    seeds = tuple(checked_seed(s) for s in ((seeds,) if isinstance(seeds, (int, np.integer)) else seeds))
+    if isinstance(scenario, EpisodeSpec) and scenario.strategy == strategy and \
+            not (params or platform or agents is not None or world or platform_options):
+        return replace(scenario, seeds=tuple(dict.fromkeys(scenario.seeds + seeds)))
+    if isinstance(scenario, EpisodeSpec):              # another strategy, or overrides: its own choices kept
+        platform = platform or scenario.platform
+        agents = scenario.agents if agents is None and scenario.strategy is None else agents
+        platform_options = platform_options or dict(scenario.platform_options)
+        scenario = scenario.scenario
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     sc = sc.with_world(world)
-    if strategy not in STRATEGIES:
-        raise SearchError(f"unknown strategy {strategy!r}; choose one of {', '.join(STRATEGIES)}")
-    cls = STRATEGIES[strategy]
+    cls = _strategy_class(strategy)
     if sc.world not in cls.worlds:
         fits = [n for n, c in STRATEGIES.items() if sc.world in c.worlds]
         raise SearchError(f"strategy {strategy!r} does not apply to scenario {sc.name!r} ({sc.world} world); "
                           f"strategies for {sc.world} worlds: {', '.join(fits)}")
-    plat = platform or sc.platform
-    if plat not in sc.kind.platforms:
-        raise SearchError(f"platform {plat!r} does not apply to {sc.world} worlds; choose one of "
-                          f"{', '.join(sc.kind.platforms)}")
+    plat = checked_platform(sc, platform)
     n = _agents(cls, sc, agents)
-    sc.check_observers(n)
-    if sc.starts is not None and 1 < len(sc.starts) < n:
-        raise SearchError(f"scenario {sc.name!r} gives {len(sc.starts)} start poses for {n} agents; give "
-                          "one pose (shared) or one per agent")
-    make_strategy(strategy, **(params or {}))
-    if plat == "car":
-        from .platforms.car import check_car_options
-        check_car_options(dict(platform_options or {}), sc.arena)
-    return sc
+    check_team(sc, n)
+    params = dict(params or {})
+    _checked_params(strategy, params)
+    built = _built(cls, strategy, params)
+    options = checked_options(sc, plat, platform_options)
+    spec = EpisodeSpec(sc, plat, n, options, strategy, cls, params, seeds)
+    spec._built.append(built)
+    return spec
 
 
 def _agents(cls, sc: Scenario, agents: int | None) -> int:
     if agents is None:
         return cls.agents or sc.agents
-    agents = whole(agents, "agents", 1, MAX_AGENTS)
+    agents = checked_agents(agents)
     if cls.agents is not None and agents != cls.agents:
         raise SearchError(f"strategy {cls.name!r} directs {cls.agents} observer(s); got agents={agents}")
     return agents
 
 
-def execute(scenario: str | Scenario | Arena, strategy: str, *, seed: int = 0, params: dict | None = None,
-            platform: str | None = None, agents: int | None = None, world: dict | None = None,
-            platform_options: dict | None = None, progress=None, figures: bool = False):
+def execute(scenario: str | Scenario | Arena | EpisodeSpec, strategy: str | None = None, *, seed: int = 0,
+            params: dict | None = None, platform: str | None = None, agents: int | None = None,
+            world: dict | None = None, platform_options: dict | None = None, progress=None,
+            figures: bool = False):
     """Like :func:`run`, but return ``(episode, strategy, platforms)``.
 
     The episode runs as every episode does: a :class:`~reciprocity.env.SearchEnv` (the
-    truth) driven by :func:`~reciprocity.env.rollout` with the strategy as its agent.
+    truth) driven by :func:`~reciprocity.env.rollout` with the strategy as its agent,
+    both built from the one :class:`EpisodeSpec` of :func:`check`.
     """
     from .env import SearchEnv, rollout
     from .strategies.agent import StrategyAgent
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise SearchError(f"seed must be a non-negative whole number; got {seed!r}")
-    sc = check(scenario, strategy, params=params, platform=platform, agents=agents, world=world,
-               platform_options=platform_options)
-    n = _agents(STRATEGIES[strategy], sc, agents)
-    env = SearchEnv(sc, platform=platform, agents=n, platform_options=platform_options)
-    agent = StrategyAgent(STRATEGIES[strategy], params, figures=figures)
+    if isinstance(scenario, EpisodeSpec) and strategy in (None, scenario.strategy) and type(seed) is int \
+            and seed in scenario.seeds and not (params or platform or agents is not None or world or platform_options):
+        spec = scenario                                 # checked already, with this seed
+    else:
+        spec = check(scenario, strategy or getattr(scenario, "strategy", None), params=params, platform=platform,
+                     agents=agents, world=world, platform_options=platform_options, seeds=seed)
+    env = SearchEnv(spec)
+    agent = StrategyAgent(spec, figures=figures)
     episode = rollout(env, agent, seed, progress=progress, figures=figures,
                       options={"progress": True} if progress is not None else None)
     return episode, agent.strategy, env.platforms
 
 
-def run(scenario: str | Scenario | Arena, strategy: str, *, seed: int = 0, params: dict | None = None,
+def run(scenario: str | Scenario | Arena | EpisodeSpec, strategy: str | None = None, *, seed: int = 0, params: dict | None = None,
         platform: str | None = None, agents: int | None = None, world: dict | None = None,
         platform_options: dict | None = None, progress=None, figures: bool = False) -> Episode:
     """Run one episode of `strategy` in `scenario`.
 
     Parameters
     ----------
-    scenario : str, Scenario or arenas.Arena
-        A built-in scenario name (``reciprocity scenarios``), a YAML file, a Scenario, or an
-        arena (a poisson scenario with the arena's source, strength and start).
-    strategy : str
-        A strategy name (``reciprocity strategies``).
+    scenario : str, Scenario, arenas.Arena or EpisodeSpec
+        A built-in scenario name (``reciprocity scenarios``), a YAML file, a Scenario, an
+        arena (a poisson scenario with the arena's source, strength and start), or the
+        spec :func:`check` returned (then nothing is checked again).
+    strategy : str, optional
+        A strategy name (``reciprocity strategies``); with a spec, its own.
     seed : int
         Episode seed (the world's random parts, noise, motion, the strategy's draws).
     params : dict, optional

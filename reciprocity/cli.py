@@ -15,6 +15,7 @@ import arenas
 from arenas import ArenaError
 from arenas.families import PREFIX as GENERATED
 from arenas.files import check_output, parse_yaml
+from arenas.geometry import check_strength
 from arenas.poses import pose_from_degrees
 
 from .errors import ReciprocityError
@@ -223,9 +224,7 @@ def _world_overrides(args) -> dict:
     world = {}
     if args.source is not None:
         world["source"] = _floats(args.source, "--source", (2,))
-    if args.strength is not None:
-        if not math.isfinite(args.strength) or args.strength <= 0:
-            raise ReciprocityError(f"--strength must be a positive number; got {args.strength!r}")
+    if args.strength is not None:                # checked with the common flags (_validate_common)
         world["strength"] = args.strength
     if args.start is not None:
         st = _floats(args.start, "--start", (2, 3))
@@ -246,9 +245,6 @@ def _world_overrides(args) -> dict:
 MAX_SEED = 2**63 - 1
 #: Most observers of one episode (the multi-agent papers use 2-5).
 MAX_AGENTS = 64
-#: Largest source strength c (the paper's is 850; a strength far beyond this overflows
-#: the sensor models and the imaging likelihood).
-MAX_STRENGTH = 1e6
 
 
 def _validate_common(args) -> None:
@@ -258,8 +254,8 @@ def _validate_common(args) -> None:
         raise ReciprocityError(f"--h must be a mesh size in cm from 0.2 to 20; got {args.h!r}")
     if args.noise is not None and (not math.isfinite(args.noise) or not 0 <= args.noise <= 1e6):
         raise ReciprocityError(f"--noise must be a number from 0 to 1e6 (signal units); got {args.noise!r}")
-    if args.strength is not None and (not math.isfinite(args.strength) or not 0 < args.strength <= MAX_STRENGTH):
-        raise ReciprocityError(f"--strength must be a number in (0, {MAX_STRENGTH:g}]; got {args.strength!r}")
+    if args.strength is not None:
+        check_strength(args.strength, "--strength")
     agents = getattr(args, "agents", None)
     if agents is not None and not 1 <= agents <= MAX_AGENTS:
         raise ReciprocityError(f"--agents must be a whole number from 1 to {MAX_AGENTS}; got {agents}")
@@ -267,15 +263,17 @@ def _validate_common(args) -> None:
 
 @dataclass
 class _Planned:
-    """One episode, checked and ready to run: everything `execute` needs."""
+    """One episode, checked and ready to run: its :class:`~reciprocity.api.EpisodeSpec`."""
 
-    scenario: object
-    strategy: str
-    params: dict
-    world: dict
-    platform: str | None
-    agents: int | None
-    options: dict
+    spec: object
+
+    @property
+    def strategy(self) -> str:
+        return self.spec.strategy
+
+    @property
+    def scenario(self):
+        return self.spec.scenario
 
 
 def _random_draw(args, sc) -> dict:
@@ -308,10 +306,8 @@ def _plan(args, scenario: str, strategy: str, params: dict) -> _Planned:
     platform = getattr(args, "platform", None)
     if options and (platform or sc.platform) != "car":
         raise ReciprocityError("--car options need --platform car")
-    agents = getattr(args, "agents", None)
-    sc = check(sc, strategy, params=params, platform=platform, agents=agents, world=world,
-               platform_options=options)
-    return _Planned(sc, strategy, params, world, platform, agents, options)
+    return _Planned(check(sc, strategy, params=params, platform=platform, agents=getattr(args, "agents", None),
+                          world=world, platform_options=options, seeds=args.seed))
 
 
 def _run_one(args, plan: _Planned, out: Path | None):
@@ -319,8 +315,7 @@ def _run_one(args, plan: _Planned, out: Path | None):
     from .api import run
     prog = _progress(plan.strategy) if not args.quiet else None
     try:
-        episode = run(plan.scenario, plan.strategy, seed=args.seed, params=plan.params, platform=plan.platform,
-                      agents=plan.agents, platform_options=plan.options, progress=prog, figures=out is not None)
+        episode = run(plan.spec, seed=args.seed, progress=prog, figures=out is not None)
     finally:
         if prog is not None:
             prog.close()

@@ -171,8 +171,9 @@ class Scenario:
         if over.get("sources") is not None:
             params.pop("source", None)
         params.update(over)
-        params = self.kind.check(params)
-        _check_starts(self.kind, params, starts, f"scenario {self.name!r}")
+        kind = self.kind
+        params = kind.check(params)
+        _check_starts(kind, params, starts, f"scenario {self.name!r}")
         return Scenario(self.name, self.world, params, self.platform, starts,
                         self.success_radius, self.max_steps, self.agents, self.description)
 
@@ -192,9 +193,10 @@ class Scenario:
     def check_observers(self, n: int) -> None:
         """Refuse running this scenario's world with `n` observers when its parameters
         need others (SearchError naming the key); cheap, before any world is built."""
-        if self.kind.check_observers is not None:
+        check = self.kind.check_observers
+        if check is not None:
             try:
-                self.kind.check_observers(self.params, n)
+                check(self.params, n)
             except SearchError as exc:
                 raise SearchError(f"scenario {self.name!r}: {exc}") from None
 
@@ -211,11 +213,12 @@ class Scenario:
         if self.starts is not None:
             s = self.starts
             return np.array([s[min(k, len(s) - 1)] for k in range(n_agents)], dtype=float)
-        if self.kind.default_start is None:
+        default_start = self.kind.default_start
+        if default_start is None:
             raise SearchError(f"scenario {self.name!r} has no start: give start: [x, y]")
         seeds = EpisodeSeeds.from_seed(seed, 0)
         rng = seeds.rng(seeds.starts)
-        return np.array([self.kind.default_start(world, rng) for _ in range(n_agents)], dtype=float)
+        return np.array([default_start(world, rng) for _ in range(n_agents)], dtype=float)
 
 
 def _starts(value, where: str, *, degrees: bool) -> np.ndarray:

@@ -88,7 +88,7 @@ class Rollout:
             agent.stop(StopReason.STEP_CAP, f"{env.max_steps} steps")
             return False
         intents = intents_of(action, env.n_agents)
-        percepts, _, terminated, _, step_info = env.step(action)
+        percepts, _, terminated, _, step_info = env.carry_out(intents)
         self.last = [(p, intents[p.agent]) for p in percepts]
         for percept, log in zip(percepts, step_info["records"]):
             intent = intents[percept.agent]

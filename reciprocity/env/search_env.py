@@ -16,10 +16,10 @@ import numpy as np
 from ..errors import SearchError, UnreachableTarget
 from ..intents import Intent
 from ..outcome import is_success, match_sources
-from ..scenarios import MAX_AGENTS, Scenario, load_scenario
-from ..task import Percept, Report, Task
-from ..validation import whole
+from ..scenarios import Scenario
 from ..seeds import EpisodeSeeds
+from ..task import Percept, Report, Task
+from .spec import EpisodeSpec, checked_seed, environment_spec
 
 __all__ = ["SearchEnv", "intents_of"]
 
@@ -49,8 +49,11 @@ class SearchEnv:
 
     Parameters
     ----------
-    scenario : str, Scenario or arenas.Arena
-        A built-in scenario name, a scenario or arena YAML file, a Scenario, or an arena.
+    scenario : str, Scenario, arenas.Arena or EpisodeSpec
+        The checked :class:`EpisodeSpec` (:func:`reciprocity.api.check`), taken as it is;
+        or a built-in scenario name, a scenario or arena YAML file, a Scenario, or an
+        arena, checked here once with the keywords below
+        (:func:`~reciprocity.env.spec.environment_spec`).
     platform : str, optional
         The platform (default: the scenario's).
     agents : int, optional
@@ -70,21 +73,21 @@ class SearchEnv:
     :class:`Report` with :meth:`judge`, which returns the episode summary.
     """
 
-    def __init__(self, scenario: str | Scenario, *, platform: str | None = None, agents: int | None = None,
-                 world: dict | None = None, platform_options: dict | None = None):
-        sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
-        self.scenario = sc.with_world(world)
-        self.platform_name = platform or self.scenario.platform
-        if self.platform_name not in self.scenario.kind.platforms:
-            raise SearchError(f"platform {self.platform_name!r} does not apply to {self.scenario.world} worlds; "
-                              f"choose one of {', '.join(self.scenario.kind.platforms)}")
-        self.n_agents = whole(self.scenario.agents if agents is None else agents, "agents", 1, MAX_AGENTS)
-        self.scenario.check_observers(self.n_agents)
-        starts = self.scenario.starts
-        if starts is not None and 1 < len(starts) < self.n_agents:
-            raise SearchError(f"scenario {self.scenario.name!r} gives {len(starts)} start poses for "
-                              f"{self.n_agents} agents; give one pose (shared) or one per agent")
-        self.platform_options = dict(platform_options or {})
+    def __init__(self, scenario: str | Scenario | EpisodeSpec, *, platform: str | None = None,
+                 agents: int | None = None, world: dict | None = None, platform_options: dict | None = None):
+        if isinstance(scenario, EpisodeSpec):
+            if platform is not None or agents is not None or world or platform_options:
+                raise SearchError("an EpisodeSpec is checked already: give it alone, or give the scenario "
+                                  "with platform, agents, world and platform_options")
+            spec = scenario
+        else:
+            spec = environment_spec(scenario, platform=platform, agents=agents, world=world,
+                                    platform_options=platform_options)
+        self.spec = spec
+        self.scenario = spec.scenario
+        self.platform_name = spec.platform
+        self.n_agents = spec.agents
+        self.platform_options = dict(spec.platform_options)
         self.max_steps = self.scenario.max_steps
         self._world = None
         self._platforms: list = []
@@ -109,8 +112,8 @@ class SearchEnv:
         """
         if seed is None:
             seed = int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0] >> 1)
-        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-            raise SearchError(f"seed must be a non-negative whole number; got {seed!r}")
+        elif not (type(seed) is int and seed in self.spec.seeds):       # the spec's seeds are checked
+            seed = checked_seed(seed)
         sc, n = self.scenario, self.n_agents
         self.seeds = seeds = EpisodeSeeds.from_seed(int(seed), n)
         world = sc.build_world(seeds.seed)
@@ -159,11 +162,23 @@ class SearchEnv:
             ``records``: per percept, the platform's log for the episode trace (true
             pose, route, path length, clock); for the evaluator's trace, never for the agent.
         """
+        self._check_running()
+        return self._carry_out(intents_of(action, self.n_agents))
+
+    def carry_out(self, intents: dict[int, Intent]) -> tuple[list[Percept], float, bool, bool, dict]:
+        """:meth:`step` for an action already read as a mapping observer -> intent
+        (:func:`intents_of`; what :class:`~reciprocity.env.Rollout` passes, so that a step
+        reads its action once)."""
+        self._check_running()
+        return self._carry_out(intents)
+
+    def _check_running(self) -> None:
         if self._world is None:
             raise SearchError("call reset() before step()")
         if self._summary is not None:
             raise SearchError("the episode is over; call reset()")
-        intents = intents_of(action, self.n_agents)
+
+    def _carry_out(self, intents: dict[int, Intent]) -> tuple[list[Percept], float, bool, bool, dict]:
         self._rounds += 1
         percepts, records = [], []
         for agent, intent in intents.items():

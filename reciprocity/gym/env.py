@@ -21,7 +21,7 @@ from ..strategies.base import Status
 from ..task import Report, Task
 from .faces import STOP, face_for
 
-__all__ = ["SearchGymEnv", "DeclaringAgent", "SUCCESS_REWARD", "end_reward"]
+__all__ = ["SearchGymEnv", "DeclaringAgent", "Delivering", "SUCCESS_REWARD", "end_reward"]
 
 #: Reward added at the end of a successful episode (every round costs 1).
 SUCCESS_REWARD = 100.0
@@ -84,6 +84,47 @@ class DeclaringAgent:
         est = self.estimate if self.estimate is not None else self.position
         return Report(strategy=self.name, estimate=est, stop=self.outcome, n_measurements=self.n_readings,
                       n_samples=self.n_readings, messages=self.messages, agents=None)
+
+
+class Delivering:
+    """The agent a Gymnasium episode's :class:`~reciprocity.env.Rollout` drives: `agent`
+    with the listeners of the percepts (the face, a wrapper's belief). Each percept is
+    delivered once, here, to each of them and then to `agent`.
+
+    Parameters
+    ----------
+    agent : Agent
+        The agent that acts, stops and declares (:class:`DeclaringAgent` or a policy's).
+    listeners : list of callable
+        ``listener(percept, intent)``, called in order before `agent` observes.
+    """
+
+    def __init__(self, agent, listeners: list):
+        self.agent, self.listeners = agent, listeners
+
+    @property
+    def done(self) -> bool:
+        return self.agent.done
+
+    def reset(self, task: Task, seed) -> None:
+        self.agent.reset(task, seed)
+
+    def act(self):
+        return self.agent.act()
+
+    def observe(self, percept, intent) -> None:
+        for listener in self.listeners:
+            listener(percept, intent)
+        self.agent.observe(percept, intent)
+
+    def status(self) -> Status:
+        return self.agent.status()
+
+    def stop(self, reason: StopReason, detail: str) -> None:
+        self.agent.stop(reason, detail)
+
+    def report(self) -> Report | None:
+        return self.agent.report()
 
 
 class SearchGymEnv(gymnasium.Env):
@@ -162,6 +203,7 @@ class SearchGymEnv(gymnasium.Env):
         self.observation_space = self.face.observation_space()
         self._own = DeclaringAgent()
         self.agent = self._own
+        self._listeners: list = [self.face.observe]
         self.run: Rollout | None = None
         self.summary: dict | None = None
         self.last_percepts: list = []
@@ -172,6 +214,11 @@ class SearchGymEnv(gymnasium.Env):
         :class:`~reciprocity.gym.StrategyPolicy`) receive the percepts and declare the
         report; the policy resets it after each :meth:`reset`."""
         self.agent = agent
+
+    def listen(self, listener) -> None:
+        """Let `listener(percept, intent)` receive each percept of every later step, once,
+        as the face and the agent do (a wrapper's belief)."""
+        self._listeners.append(listener)
 
     @property
     def task(self) -> Task:
@@ -194,7 +241,7 @@ class SearchGymEnv(gymnasium.Env):
         if self.random_source:
             from ..campaign.worker import world_draw
             self.search.scenario = self._scenario.with_world(world_draw(self._scenario, self.episode_seed))
-        self.run = Rollout(self.search, self.agent)
+        self.run = Rollout(self.search, Delivering(self.agent, self._listeners))
         task = self.run.start(self.episode_seed, options, reset_agent=self.agent is self._own)
         self.summary, self.last_percepts = None, []
         obs = self.face.reset(task.starts[0])
@@ -212,11 +259,9 @@ class SearchGymEnv(gymnasium.Env):
                 self._own.declare(intent[1])
             going = self.run.advance(None)
         else:
-            going = self.run.advance(intent)
+            going = self.run.advance(intent)              # the face observes each percept on the way
             self.last_percepts = list(self.run.last)
             self.face.moved(intent)
-            for percept, done in self.last_percepts:
-                self.face.observe(percept, done)
             if going and self.search.budget_spent:
                 going = self.run.advance(self.agent.act())     # as rollout: the agent's last word
         obs = self.face.observation()

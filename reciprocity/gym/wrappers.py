@@ -70,6 +70,7 @@ class BeliefImage(gymnasium.ObservationWrapper, gymnasium.utils.RecordConstructo
             raise SearchError(f"unknown strategy {name!r} for the belief")
         self.size = size
         self._belief = StrategyAgent(STRATEGIES[name], params)
+        inner.listen(self._take)
         self.centred = bool(centred)
         shape = (1, 2 * size - 1, 2 * size - 1) if self.centred else (2, size, size)
         image = spaces.Box(0.0, 1.0, shape, dtype=np.float32)
@@ -85,11 +86,14 @@ class BeliefImage(gymnasium.ObservationWrapper, gymnasium.utils.RecordConstructo
         return self.observation(obs), info
 
     def step(self, action):
-        obs, reward, terminated, truncated, info = self.env.step(action)
-        for percept, intent in self.env.unwrapped.last_percepts:
-            if percept.unreachable is None and percept.observations and not self._belief.done:
-                self._belief.observe(percept, intent)
+        obs, reward, terminated, truncated, info = self.env.step(action)    # the belief took its percepts
         return self.observation(obs), reward, terminated, truncated, info
+
+    def _take(self, percept, intent) -> None:
+        """One percept of the step going on, for the belief (once; its stop is its own)."""
+        if self._belief.strategy is not None and percept.unreachable is None and percept.observations \
+                and not self._belief.done:
+            self._belief.observe(percept, intent)
 
     def estimate(self) -> np.ndarray | None:
         """The belief's estimate of the source now (world units), or None before it has one."""

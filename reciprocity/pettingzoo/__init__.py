@@ -23,7 +23,7 @@ from ..outcome import StopReason
 from ..scenarios import load_scenario
 from ..strategies import STRATEGIES
 from ..strategies.agent import StrategyAgent
-from ..gym.env import SUCCESS_REWARD, DeclaringAgent, end_reward
+from ..gym.env import SUCCESS_REWARD, DeclaringAgent, Delivering, end_reward
 from ..gym.faces import STOP, face_for
 
 __all__ = ["parallel_env", "SearchParallelEnv", "TeamPolicy"]
@@ -141,7 +141,7 @@ class SearchParallelEnv(ParallelEnv):
         if seed is None:
             seed = int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0] >> 2)
         self.episode_seed = int(seed)
-        self.run = Rollout(self.search, self.agent)
+        self.run = Rollout(self.search, Delivering(self.agent, [self._face_observes]))
         task = self.run.start(self.episode_seed, options, reset_agent=self.agent is self._own)
         self.agents = list(self.possible_agents)
         self.stopped: set[int] = set()
@@ -149,6 +149,10 @@ class SearchParallelEnv(ParallelEnv):
         for face, pose in zip(self.faces, task.starts):
             face.reset(pose)
         return self._observations(), {a: {"task": task} for a in self.agents}
+
+    def _face_observes(self, percept, intent) -> None:
+        """Each percept, once, to its observer's face (on its way to the agent)."""
+        self.faces[percept.agent].observe(percept, intent)
 
     def _observations(self) -> dict:
         pos = np.array([np.clip(f.position, *f.bounds()) for f in self.faces])
@@ -179,8 +183,6 @@ class SearchParallelEnv(ParallelEnv):
             going = self.run.advance(intents)
             for k, intent in intents.items():
                 self.faces[k].moved(intent)
-            for percept, intent in self.run.last:
-                self.faces[percept.agent].observe(percept, intent)
             if going and self.search.budget_spent:
                 going = self.run.advance(self.agent.act())
         else:

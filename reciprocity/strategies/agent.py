@@ -11,6 +11,7 @@ from ..observations import SENSING_KINDS, MessageLog
 from ..outcome import Stop, StopReason
 from ..task import Percept, Report, Task
 from .base import SearchContext, Status, Strategy
+from .map_steps import with_map_steps
 
 __all__ = ["StrategyAgent"]
 
@@ -20,25 +21,36 @@ class StrategyAgent:
 
     Parameters
     ----------
-    factory : type or Strategy
-        The strategy class (``reciprocity.strategies.STRATEGIES[name]``), built anew at
-        every reset; or a strategy already built (started afresh at every reset, its
-        parameters as given).
+    factory : EpisodeSpec, type or Strategy
+        The checked :class:`~reciprocity.env.spec.EpisodeSpec` of the episode
+        (:func:`reciprocity.api.check`: its strategy class and parameters, taken without
+        checking again; the strategy the check built serves the first reset); or the
+        strategy class (``reciprocity.strategies.STRATEGIES[name]``), built anew at every
+        reset; or a strategy already built (started afresh at every reset, its parameters
+        as given).
     params : dict, optional
         The strategy's parameters (with a class). The task's platform limits (the car's
         ``clearance``, the sensor's ``i_max``) fill those the strategy accepts and `params`
         leaves out.
     figures : bool
         Keep what the figures draw of the strategy's belief (its
-        :meth:`~reciprocity.strategies.base.Strategy.figure_record`) in the report.
+        :meth:`~reciprocity.strategies.base.Strategy.figure_record`) in the report; on an
+        unknown map also the believed map step by step
+        (:func:`~reciprocity.strategies.map_steps.with_map_steps`, from the percepts).
     """
 
     def __init__(self, factory, params: dict | None = None, *, figures: bool = False):
         if isinstance(factory, Strategy) and params:
             raise TypeError("give params with a strategy class, not with a strategy already built")
+        self._spec = factory if hasattr(factory, "strategy_class") else None   # an EpisodeSpec
+        if self._spec is not None:
+            if params:
+                raise TypeError("an EpisodeSpec brings its strategy's params; give none")
+            factory, params = self._spec.strategy_class, self._spec.params
         self._factory = factory
         self._params = dict(params or {})
         self._figures = bool(figures)
+        self._percepts: list[Percept] = []
         self.strategy: Strategy | None = None
         self.messages = MessageLog()
 
@@ -51,15 +63,13 @@ class StrategyAgent:
             for key, value in task.limits.items():
                 if key in accepted:
                     params.setdefault(key, value)
-            strategy = self._factory(**params)
-        if task.world not in strategy.worlds:
-            raise SearchError(f"strategy {strategy.name!r} does not apply to {task.world!r} worlds "
-                              f"(it supports {', '.join(strategy.worlds)})")
-        if strategy.agents is not None and strategy.agents != task.n_agents:
-            raise SearchError(f"strategy {strategy.name!r} directs {strategy.agents} observer(s); "
-                              f"got {task.n_agents}")
+            built = self._spec.take_strategy(params) if self._spec is not None else None
+            strategy = built if built is not None else self._factory(**params)
+        if self._spec is None:
+            _check_fits(strategy, task)
         self.strategy = strategy
         self.messages = MessageLog()
+        self._percepts: list[Percept] = []                      # for the figures' records only
         strategy.start(SearchContext(task.world, task.nominal, np.array(task.starts),
                                      np.random.default_rng(seed), self.messages, tuple(task.intents)))
         if task.reachable is not None:
@@ -74,6 +84,8 @@ class StrategyAgent:
         return self.strategy.propose()
 
     def observe(self, percept: Percept, intent) -> None:
+        if self._figures:
+            self._percepts.append(percept)
         if percept.unreachable is not None:
             point, reason = percept.unreachable
             self.strategy.reject(intent, point, reason, percept.agent)
@@ -100,7 +112,17 @@ class StrategyAgent:
                       estimates=_array(getattr(s, "estimates", None)),
                       estimates_sd=_array(getattr(s, "estimates_sd", None)),
                       notes=dict(getattr(s, "notes", None) or {}),
-                      figures=s.figure_record() if self._figures else {})
+                      figures=with_map_steps(s.figure_record(), self._percepts) if self._figures else {})
+
+
+def _check_fits(strategy: Strategy, task: Task) -> None:
+    """Refuse a strategy (not checked by an EpisodeSpec) that cannot search `task`."""
+    if task.world not in strategy.worlds:
+        raise SearchError(f"strategy {strategy.name!r} does not apply to {task.world!r} worlds "
+                          f"(it supports {', '.join(strategy.worlds)})")
+    if strategy.agents is not None and strategy.agents != task.n_agents:
+        raise SearchError(f"strategy {strategy.name!r} directs {strategy.agents} observer(s); "
+                          f"got {task.n_agents}")
 
 
 def _array(value) -> np.ndarray | None:

@@ -418,3 +418,10 @@ class LatticeReciprocityStrategy(Strategy):
         if self.belief is not None:
             return self.space.points[np.unique(self.belief.node)]
         return self.space.points[self.pos >= self.support]
+
+    def figure_record(self) -> dict:
+        """The source posterior over the nodes now (``lattice_posterior``), the map it was
+        computed on (``lattice_mode``) and the readings it rests on (``lattice_readings``),
+        for :func:`reciprocity.viz.lattice.posterior_figure`."""
+        return {"lattice_posterior": np.asarray(self.post, dtype=float).copy(), "lattice_mode": self.mode,
+                "lattice_readings": len(self.history)}

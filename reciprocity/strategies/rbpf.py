@@ -299,6 +299,14 @@ class RBPFStrategy(Strategy):
         makes against the true node once the search is over."""
         return self.space.points[np.unique(self.belief.node)]
 
+    def figure_record(self) -> dict:
+        """The particle clouds now (``lattice_particles``: source particles, the searcher's
+        node particles as points, each link's probability), for
+        :func:`reciprocity.viz.lattice.search_figure`."""
+        b = self.belief
+        return {"lattice_particles": {"source": b.source.copy(), "nodes": b.space.points[b.node].copy(),
+                                      "links": b.link_probability().copy()}}
+
 
 @register
 class RBPFInfotaxisStrategy(RBPFStrategy):

@@ -9,6 +9,7 @@ from arenas import Arena
 from ..episode import Episode
 from .figures import count_steps_figure, gradient_run_figure, imaging_steps_figure, sources_figure
 from .hmm import search_map_figure
+from .lattice import lattice_episode_figures
 from .mapping import mapping_steps_figure
 from .plume import search_figure as plume_search_figure
 
@@ -29,11 +30,12 @@ def episode_figures(episode: Episode, arena: Arena | None):
     What is drawn follows what the record holds, never the strategy's name: in a plume
     world (``truth["mean_hits"]``) the search over the true hit rate with the strategy's
     particle clouds; in a filament world (``truth["plume"]``) the track over the plume and
-    the strategy's final source map; in an arena, the residual map of one more source (``belief["residual"]``: several sources); the imaging steps
+    the strategy's final source map; on a lattice (``truth["lattice"]``) the true lattice
+    with the path and the searcher's final clouds or posterior; in an arena, the residual map of one more source (``belief["residual"]``: several sources); the imaging steps
     (``belief["steps"]``, as Fig. 4), the posterior on hit counts step by step
     (``belief["posterior"]``, over the true ``truth["wind"]``) or else the run over the
     true signal (Fig. 5: the painted floor ``truth["floor"]`` or the true ``truth["field"]``, with
-    ``belief["gradients"]``); the believed map step by step (``belief["mapping"]``: an
+    ``belief["gradients"]``); the believed map step by step (``belief["map_steps"]``: an
     unknown map, against ``truth["true_arena"]``).
 
     Parameters
@@ -46,7 +48,8 @@ def episode_figures(episode: Episode, arena: Arena | None):
     Yields
     ------
     name : str
-        ``"search"`` (plume and filament worlds), ``"sources"``, ``"steps"``, ``"path"``
+        ``"search"`` (plume, filament and lattice worlds), ``"lattice"``, ``"posterior"``,
+        ``"sources"``, ``"steps"``, ``"path"``
         or ``"map_steps"``.
     figure : Figure
     """
@@ -58,6 +61,9 @@ def episode_figures(episode: Episode, arena: Arena | None):
         return
     if "plume" in truth:
         yield "search", search_map_figure(episode)
+        return
+    if "lattice" in truth:
+        yield from lattice_episode_figures(episode)
         return
     if "residual" in belief:
         yield "sources", sources_figure(episode, belief["residual"], arena)
@@ -71,5 +77,5 @@ def episode_figures(episode: Episode, arena: Arena | None):
     else:
         yield "path", gradient_run_figure(episode, truth.get("field"), arena, belief.get("gradients", ()),
                                           floor=truth.get("floor"))
-    if "mapping" in belief:
+    if "map_steps" in belief:
         yield "map_steps", mapping_steps_figure(episode, truth["true_arena"])

@@ -12,52 +12,9 @@ from matplotlib.patches import Patch
 from arenas import Arena
 
 from ..episode import Episode
-from ..imaging import ImagingMap
-from ..models.green import cached_solver
-from ..observations import Observation
-from ..strategies.mapping import MapKeeper
 from .figures import draw_arena
 
-__all__ = ["map_replay", "mapping_steps_figure"]
-
-
-def _scans(record: dict) -> list[Observation]:
-    """The scans of one trace record as observations (as the strategy received them)."""
-    return [Observation(s["position"], min(s["ranges"]), kind="scan", data=s) for s in record.get("scans", ())]
-
-
-def map_replay(episode: Episode, k: int) -> tuple[MapKeeper, ImagingMap]:
-    """The believed map and the imaging map of the episode's strategy after step `k`,
-    rebuilt from the trace's scans and readings as the strategy built them (the same
-    occupancy updates, the same believed arena, the solver on it), the readings imaged
-    with the model error and shortfall of the map after step `k` (the strategy updates
-    them only when the believed walls change, so they may differ slightly).
-
-    Parameters
-    ----------
-    episode : Episode
-        A run of the reciprocity strategy with ``map: unknown``, run with ``figures=True``:
-        its trace holds the scans, ``belief["mapping"]`` what the strategy was told (the
-        known walls, the lidar, the cell, the mesh size, the model error) and
-        ``belief["imaging"]`` its imaging map at the end (for its likelihood).
-    k : int
-        Step, 1-based.
-    """
-    told = episode.belief["mapping"]
-    keeper = MapKeeper(told["known"], told["lidar"], told["cell"])
-    for record in episode.trace[:k]:
-        keeper.update(_scans(record))
-    im = episode.belief["imaging"]
-    points = np.vstack([np.asarray(r["points"]).reshape(-1, 2) for r in episode.trace[:k]])
-    readings = np.concatenate([np.asarray(r["readings"], dtype=float) for r in episode.trace[:k]])
-    product = im.combine == "product" and im.strength_range is None
-    error = keeper.model_error(told["model_error"]) if product else im.model_error
-    out = ImagingMap(cached_solver(keeper.arena, told["h"]), im.sigma, strength=im.strength, combine=im.combine,
-                     strength_range=im.strength_range, offset_sd=im.offset_sd, model_error=error)
-    out = keeper.imaging(out)
-    for z, r in zip(points, readings):
-        out.add(z, float(r))
-    return keeper, out
+__all__ = ["mapping_steps_figure"]
 
 
 def mapping_steps_figure(episode: Episode, true_arena: Arena, *, steps=None, ncols: int = 4) -> Figure:
@@ -73,18 +30,20 @@ def mapping_steps_figure(episode: Episode, true_arena: Arena, *, steps=None, nco
     Parameters
     ----------
     episode : Episode
-        The run (``map: unknown``, with ``figures=True``: see :func:`map_replay`).
+        The run (``map: unknown``, with ``figures=True``): its trace, and the believed map
+        after a few steps, ``belief["map_steps"]``
+        (:func:`reciprocity.strategies.map_steps.with_map_steps`).
     true_arena : Arena
         The true walls (the world's, for the figure only).
     steps : sequence of int, optional
-        Steps (1-based); default: 1, 2, the middle one, the last.
+        Steps (1-based) among those recorded; default: all of them (1, 2, the middle one,
+        the last).
     ncols : int
         Panels per row.
     """
     n = len(episode.trace)
-    if steps is None:
-        steps = sorted({1, min(2, n), max(1, (n + 1) // 2), n})
-    steps = [k for k in steps if 1 <= k <= n]
+    snaps = {snap["step"]: snap for snap in episode.belief["map_steps"]}
+    steps = sorted(snaps) if steps is None else [k for k in steps if k in snaps]
     rows = int(np.ceil(len(steps) / ncols))
     cols = min(ncols, len(steps))
     fig = Figure(figsize=(3.8 * cols, 3.7 * rows + 0.6), layout="constrained")
@@ -93,20 +52,18 @@ def mapping_steps_figure(episode: Episode, true_arena: Arena, *, steps=None, nco
     tpc = None
     for i, k in enumerate(steps):
         ax = fig.add_subplot(rows, cols, i + 1)
-        keeper, im = map_replay(episode, k)
-        grid = keeper.grid
+        snap = snaps[k]
+        im = snap["imaging"]
         tpc = ax.tripcolor(im.solver.triangulation, im.values(), shading="gouraud", cmap="jet", vmin=0, vmax=1,
                            rasterized=True)
-        draw_arena(ax, keeper.arena, obstacle_color="0.55")
+        draw_arena(ax, snap["arena"], obstacle_color="0.55")
         for o in true_arena.obstacles:
             c = np.vstack([o, o[:1]])
             ax.plot(c[:, 0], c[:, 1], "-", color="red", lw=1.0, zorder=4)
-        (x0, x1), (y0, y1) = grid.known.bounds
-        extent = (grid.origin[0], grid.origin[0] + grid.nx * grid.cell,
-                  grid.origin[1], grid.origin[1] + grid.ny * grid.cell)
-        ax.imshow((grid.inside & ~grid.seen).astype(int), origin="lower", extent=extent, cmap=veil,
+        (x0, x1), (y0, y1) = snap["bounds"]
+        ax.imshow(snap["unseen"], origin="lower", extent=snap["extent"], cmap=veil,
                   vmin=0, vmax=1, zorder=2, interpolation="nearest")
-        front = grid.centres()[grid.frontier()]
+        front = snap["frontier"]
         ax.plot(front[:, 0], front[:, 1], ".", color="cyan", ms=1.5, zorder=5)
         path = np.vstack([np.asarray(r["route"]) for r in episode.trace[:k]])
         ax.plot(path[:, 0], path[:, 1], "-", color="tab:blue", lw=1.2, zorder=6)
@@ -119,7 +76,7 @@ def mapping_steps_figure(episode: Episode, true_arena: Arena, *, steps=None, nco
         ax.plot(*src, "*", color="lime", mec="k", ms=10, zorder=7)
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
-        ax.set_title(f"step {k}: seen {100 * grid.seen_fraction:.0f} %, map rev. {keeper.revision}, "
+        ax.set_title(f"step {k}: seen {100 * snap['seen_fraction']:.0f} %, map rev. {snap['revision']}, "
                      f"model error {100 * im.model_error:.0f} %", fontsize=8)
         ax.tick_params(labelsize=7)
     fig.colorbar(tpc, ax=fig.axes, shrink=0.8, label="imaging function $P_M$ (believed mesh)")

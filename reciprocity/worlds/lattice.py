@@ -193,6 +193,16 @@ class LatticeWorld(World):
     def contains(self, points) -> np.ndarray:
         return self.space.contains(points)
 
+    def figure_record(self) -> dict:
+        """The true lattice (``lattice``: its nodes, links, which are present, its radius),
+        the source, the mean count λ per node and the release strength, for the figures
+        (:mod:`reciprocity.viz.lattice`)."""
+        sp = self.space
+        return {"lattice": {"points": sp.points.copy(), "links": sp.links.copy(), "present": sp.present.copy(),
+                            "radius": float(sp.radius)},
+                "source": np.asarray(self.source, dtype=float).copy(), "lam": self.lam.copy(),
+                "strength": self.strength}
+
     def mean(self, position) -> float:
         """Mean count λ at `position` (eq. (4)): ``A0 · F_ij``."""
         return float(self.lam[self.space.index_of(position)[0]])

@@ -132,7 +132,7 @@ def test_overshoot_needs_a_miss_upwind_of_the_estimate():
 
 
 def test_short_episode_has_the_contract_keys_and_is_reproducible():
-    sc = check("farrell", "detection-infotaxis")
+    sc = check("farrell", "detection-infotaxis").scenario
     sc.max_steps = 300
     ep = run(sc, "detection-infotaxis", seed=3, world={"start": [60.0, 5.0], "spinup": 60.0})
     s = ep.summary
@@ -147,7 +147,7 @@ def test_short_episode_has_the_contract_keys_and_is_reproducible():
 def test_a_start_in_the_plume_moves_upwind():
     # started 20 m downwind of the source on the plume's axis: after 30 s the vehicle
     # is closer to the source (a drift downwind or a random walk would not be)
-    sc = check("farrell", "detection-infotaxis")
+    sc = check("farrell", "detection-infotaxis").scenario
     sc.max_steps = 300
     closer = 0
     for seed in range(3):

@@ -11,7 +11,7 @@ from reciprocity.errors import SearchError
 
 @pytest.mark.parametrize("strategy", ["hmm", "surge-cast"])
 def test_short_episode_has_the_contract_keys(strategy):
-    sc = check("farrell", strategy)
+    sc = check("farrell", strategy).scenario
     sc.max_steps = 300                                    # 30 s at 10 Hz
     ep = run(sc, strategy, seed=3, world={"start": [60.0, 5.0], "spinup": 60.0})
     s = ep.summary
@@ -26,7 +26,7 @@ def test_short_episode_has_the_contract_keys(strategy):
 
 
 def test_hmm_status_reports_the_map():
-    sc = check("farrell", "hmm")
+    sc = check("farrell", "hmm").scenario
     sc.max_steps = 200
     ep = run(sc, "hmm", seed=1, world={"start": [50.0, 0.0], "spinup": 60.0})
     rec = [r for r in ep.trace if "map_mass" in r]

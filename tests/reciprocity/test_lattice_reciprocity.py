@@ -252,6 +252,6 @@ def test_posterior_figure_draws(tmp_path):
     w = _world(1)
     s = _strategy(w)
     path = _walk_to(w, s, [int(w.space.index_of([4, 0])[0])], np.random.default_rng(0))
-    fig = posterior_figure(w, s, w.space.points[path])
+    fig = posterior_figure(w.figure_record(), s.figure_record(), w.space.points[path])
     fig.savefig(tmp_path / "post.png")
     assert (tmp_path / "post.png").stat().st_size > 1000 and len(fig.axes) == 2

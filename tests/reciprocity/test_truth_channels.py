@@ -38,8 +38,8 @@ def test_the_truths_discretisation_does_not_follow_the_strategys_h(h):
     from reciprocity.env import SearchEnv
     args = build_parser().parse_args(["run", "--arena", "paper", "--strategy", "reciprocity", "--h", h])
     plan = _plan(args, "paper", "reciprocity", {})
-    assert plan.params["h"] == float(h)
-    env = SearchEnv(plan.scenario, world=plan.world)
+    assert plan.spec.params["h"] == float(h)
+    env = SearchEnv(plan.spec)
     env.reset(seed=0)
     assert env.world.h == TRUTH_H
     assert env.world.describe()["truth_h"] == TRUTH_H
