@@ -220,7 +220,7 @@ def test_the_imaging_map_is_a_belief_and_the_strategys_belief():
     import numpy as np
     from reciprocity.api import execute
     from reciprocity.beliefs import Belief
-    from reciprocity.imaging import ImagingMap
+    from reciprocity.beliefs.imaging import ImagingMap
 
     _, strategy, _ = execute("paper", "reciprocity", seed=0, params={"h": 4.0, "max_steps": 3})
     belief = strategy.belief
