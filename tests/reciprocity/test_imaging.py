@@ -258,3 +258,14 @@ def test_gaussian_predictive_entropy_against_brute_force_quadrature():
         want[y] = np.sum(pz * hz) * dz
     # 3-point Gauss-Hermite per mixture component: within 0.03 nats of the fine quadrature (0.013 measured)
     assert np.allclose(got, want, atol=0.03), (got, want)
+
+
+def test_the_old_path_re_exports_the_belief():
+    """``reciprocity.imaging`` is kept while ``reciprocity.viz`` imports it: the same objects
+    as ``reciprocity.beliefs`` and the package's lazy names."""
+    import reciprocity.imaging as old
+    from reciprocity.beliefs import combiners, imaging, level_sets
+
+    assert old.ImagingMap is imaging.ImagingMap is r.ImagingMap
+    assert old.COMBINATIONS is combiners.COMBINATIONS is r.COMBINATIONS
+    assert old.superlevel_area is level_sets.superlevel_area is r.superlevel_area

@@ -50,7 +50,8 @@ def test_axis_point_waits_for_a_concentrated_belief(setting):
 def test_reach_test_point_reads_beside_the_belief_within_reach(setting):
     solver, space = setting
     near = space.points[:, 0] < 60
-    w = np.where(space.points[:, 0] > 110, 1.0, 0.0) + np.where(np.hypot(*(space.points - (40.0, 100.0)).T) < 5, 3.0, 0.0)
+    blob = np.hypot(*(space.points - (40.0, 100.0)).T) < 5
+    w = np.where(space.points[:, 0] > 110, 1.0, 0.0) + np.where(blob, 3.0, 0.0)
     allowed = np.ones(len(space.points), dtype=bool)
     p = reach_test_point(space, allowed, near, w, 12.0)
     assert np.hypot(*(p - (40.0, 100.0))) < 5.0
