@@ -38,7 +38,7 @@ from ...errors import SearchError
 from ...fem.discretisation import discretisation_error
 from ...fem.green import GreenSolver
 
-__all__ = ["Likelihood", "Belief", "SIGMA_RULES", "PAPER_NOISE", "MIN_NOISE", "CALIBRATED_MODEL_ERROR",
+__all__ = ["Likelihood", "Scoring", "SIGMA_RULES", "PAPER_NOISE", "MIN_NOISE", "CALIBRATED_MODEL_ERROR",
            "RELATIVE_TERMS"]
 
 #: Noise (signal units) assumed when the world states none: the paper's sensor noise
@@ -59,8 +59,8 @@ CALIBRATED_MODEL_ERROR = 0.05
 RELATIVE_TERMS = ("fixed", "discretisation", "platform", "strength")
 
 
-class Belief(NamedTuple):
-    """What :meth:`Likelihood.belief` builds: the map and the terms it was built with."""
+class Scoring(NamedTuple):
+    """What :meth:`Likelihood.belief` builds: the imaging map and the terms it scores with."""
 
     imaging: ImagingMap
     #: ``sigma`` of eq. (7) in use, signal units.
@@ -160,7 +160,7 @@ class Likelihood:
         return nominal.get("strength", arena_strength) if self.strength == "arena" else self.strength
 
     def belief(self, solver: GreenSolver, nominal: dict, arena_strength: float | None, combine: str,
-               widen=None) -> Belief:
+               widen=None) -> Scoring:
         """The imaging map on `solver` for a task stating `nominal`, its maps combined by
         `combine` (:mod:`reciprocity.beliefs.combiners`). `widen` (optional) maps the
         relative model error to the one used (an unknown map's share of unseen space)."""
@@ -174,7 +174,7 @@ class Likelihood:
         used = widen(model_error) if widen is not None and product else model_error
         imaging = ImagingMap(solver, sigma, strength=c, combine=combine, strength_range=prior,
                              offset_sd=offset, model_error=used)
-        return Belief(imaging, sigma, terms, model_error, c)
+        return Scoring(imaging, sigma, terms, model_error, c)
 
     def params(self) -> dict:
         """The settings, as :meth:`ReciprocityStrategy.params` reports them."""
