@@ -82,7 +82,7 @@ def credible_area(im, share: float) -> float:
 
 def replay(run: dict, solver, combine: str):
     """The imaging maps after each reading of `run`: yields (k, ImagingMap)."""
-    from reciprocity.imaging import ImagingMap
+    from reciprocity.beliefs.imaging import ImagingMap
     im = ImagingMap(solver, run["sigma"], strength=run["strength"], combine=combine)
     for k, (z, r, sat) in enumerate(zip(run["points"], run["readings"], run["saturated"]), 1):
         im.add(z, r, saturated=sat)

@@ -9,8 +9,8 @@ point observer, episode seed ``i``; one row per episode in ``likelihood_terms/NA
     python benchmarks/likelihood_terms.py run unk_survey --mode unknown --draws 5
     python benchmarks/likelihood_terms.py table base+base_b s10_e0 unk_base unk_survey
 
-``--patch '{"INFO_SUPPORT": 64}'`` sets module constants of
-``reciprocity.strategies.reciprocal`` first (the rule experiments). ``table`` joins CSVs
+``--patch '{"INFO_SUPPORT": 64}'`` sets module constants of the reciprocity search's parts
+(``reciprocity.strategies.imaging_search``) first (the rule experiments). ``table`` joins CSVs
 with ``+`` and limits draws with ``@N`` (``s10_e0@10``): success with its Wilson 95 %
 interval, error median / p95 / max (cm), readings median / p90 and mean with its Student-t
 95 % interval, path median (cm).
@@ -33,15 +33,20 @@ FIELDS = ["family", "draw", "success", "stop", "error", "n", "path", "t"]
 
 def run(name: str, params: dict, draws: int, start: int, mode: str, world: dict, patch: dict) -> None:
     import arenas
-    import reciprocity.strategies.reciprocal as R
+    import importlib
     from reciprocity.env import SearchEnv, rollout
     from reciprocity.scenarios import load_scenario
     from reciprocity.strategies import STRATEGIES
     from reciprocity.strategies.agent import StrategyAgent
+    parts = [importlib.import_module(f"reciprocity.strategies.imaging_search.{m}")
+             for m in ("likelihood", "next_point", "stop_rule", "reachability", "meshing", "several")]
     for key, value in patch.items():
-        if not hasattr(R, key):
-            raise SystemExit(f"error: --patch key {key!r} is not a constant of reciprocity.strategies.reciprocal")
-        setattr(R, key, value)
+        owner = [m for m in parts if hasattr(m, key) and key.isupper()]
+        if not owner:
+            raise SystemExit(f"error: --patch key {key!r} is not a constant of the parts of the reciprocity "
+                             f"search (reciprocity.strategies.imaging_search)")
+        for module in owner:          # every part that reads it (some import it from another)
+            setattr(module, key, value)
     world = dict(world, **({"map": "unknown"} if mode == "unknown" else {}))
     HERE.mkdir(exist_ok=True)
     with (HERE / f"{name}.csv").open("w", newline="") as f:
@@ -103,7 +108,7 @@ def main(argv=None) -> int:
     r.add_argument("--start", type=int, default=0)
     r.add_argument("--mode", choices=("known", "unknown"), default="known")
     r.add_argument("--world", default="{}", help="world keys, JSON (e.g. a mismatch)")
-    r.add_argument("--patch", default="{}", help="constants of reciprocity.strategies.reciprocal, JSON")
+    r.add_argument("--patch", default="{}", help="constants of reciprocity.strategies.imaging_search, JSON")
     t = sub.add_parser("table")
     t.add_argument("specs", nargs="+")
     args = p.parse_args(argv)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..imaging import ImagingMap
+from ..beliefs.imaging import ImagingMap
 from ..models.green import cached_solver
 from ..observations import Observation, readings_of, scans_of
 from .mapping import MapKeeper

@@ -35,7 +35,7 @@ import numpy as np
 from arenas import Arena
 
 from ..errors import SearchError
-from ..imaging import ImagingMap
+from ..beliefs.imaging import ImagingMap
 from ..observations import Observation, scans_of
 from ..spaces.occupancy import MIN_CHANGE_CM2, OccupancyGrid
 
@@ -244,7 +244,7 @@ class ShortfallImaging(ImagingMap):
     ``sigma^2/2 + (model_error v_k)^2``: a split normal (its normalisation ``2 /
     (sqrt(2 pi) (s_below + s_above))`` counts, as it differs from node to node). A source
     behind walls not yet seen is not ruled out by readings the open model over-predicts.
-    With ``shortfall = 0`` (or a shared offset) it is :class:`~reciprocity.imaging.ImagingMap`.
+    With ``shortfall = 0`` (or a shared offset) it is :class:`~reciprocity.beliefs.imaging.ImagingMap`.
 
     Attributes
     ----------

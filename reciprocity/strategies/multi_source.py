@@ -12,7 +12,7 @@ adjoint field of reading ``k`` read at ``Ŝ_j`` (no extra solve).
 - the residual map of a further source has the strength integrated over the prior
   ``EXTRA_STRENGTH`` times the nominal strength, so each node ``x`` has the log Bayes
   factor ``B(x)`` of "one more source at x" against "no more"
-  (:meth:`~reciprocity.imaging.ImagingMap.log_evidence_ratio`);
+  (:meth:`~reciprocity.beliefs.imaging.ImagingMap.log_evidence_ratio`);
 - ``max B >= LOG_DETECT`` (odds of 100 to 1, "decisive" on Jeffreys' scale; with
   Gaussian noise, about BIC's penalty of 3 parameters at 20 readings) is evidence of a
   further source: the search images it as it imaged the first, and accepts it when its
@@ -56,7 +56,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..imaging import ImagingMap
+from ..beliefs.imaging import ImagingMap
 
 __all__ = ["SourceBook", "RESIDUAL_ERROR", "LOG_DETECT", "EXTRA_STRENGTH",
            "MIN_SEPARATION", "WALL_MARGIN", "REFINE_RADIUS", "CONFIRM_RADIUS", "SETTLE_TOL",

@@ -20,9 +20,9 @@ Algorithm 1 of Landa et al. with its Gaussian map replaced by the count likeliho
   any belief over mesh nodes), with a smaller ``d`` (:data:`D_READ`): the reachable
   node, at least ``d`` from every point read,
   with the most belief within ``reach``
-  (:func:`~reciprocity.strategies.reciprocal.mass_within_reach`); once the belief is
+  (:func:`~reciprocity.strategies.imaging_search.next_point.mass_within_reach`); once the belief is
   narrower than ``reach``, the node on its major axis beyond it
-  (:func:`~reciprocity.strategies.reciprocal.axis_point`). It does not know the wind:
+  (:func:`~reciprocity.strategies.imaging_search.next_point.axis_point`). It does not know the wind:
   an isotropic reach stands for the adjoint's footprint, which stretches upwind;
 - **stop**: the Poisson search's credible rule, CONVERGED once ``credible_mass`` of the
   belief lies within ``credible_radius`` of the estimate (the posterior mean near the
@@ -48,7 +48,7 @@ from ..spaces import mesh_space
 from ..validation import number, whole
 from . import register
 from .base import SearchContext, Status, Strategy
-from .reciprocal import axis_point, mass_within_reach
+from .imaging_search.next_point import axis_point, mass_within_reach
 
 __all__ = ["ArenaCounts", "FreeSpaceCounts", "WindReciprocity", "FreeSpaceWind"]
 

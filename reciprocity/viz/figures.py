@@ -12,7 +12,7 @@ from arenas import Arena, Floor
 
 from ..episode import Episode
 from ..fem.green import Field
-from ..imaging import ImagingMap
+from ..beliefs.imaging import ImagingMap
 
 __all__ = ["draw_arena", "imaging_steps_figure", "count_steps_figure", "doubling_steps", "gradient_run_figure",
            "field_figure", "sources_figure"]

@@ -469,7 +469,7 @@ def write_video(path, episode: Episode, arena: Arena, floor_image: np.ndarray, *
         The floor, row 0 at the top, covering ``arena.bounds`` at any resolution
         (e.g. ``arenas.Floor.image``).
     imaging : object, optional
-        The strategy's :class:`~reciprocity.imaging.ImagingMap`, or anything with
+        The strategy's :class:`~reciprocity.beliefs.imaging.ImagingMap`, or anything with
         ``nodes`` (N, 2) cm, ``triangles`` (M, 3) and ``first(k).values()`` (N,) in
         [0, 1]. Adds the right panel.
     fps : int

@@ -74,11 +74,11 @@ def test_a_triangle_failure_is_a_mesh_error(monkeypatch):
 
 
 def test_a_failed_remesh_keeps_the_last_good_mesh_and_is_recorded(monkeypatch):
-    from reciprocity.strategies import reciprocal
+    from reciprocity.strategies.imaging_search import meshing
 
     def fail(arena, h, *args, **kwargs):
         raise MeshError("Triangulation failed (simulated)")
-    monkeypatch.setattr(reciprocal, "MeshSpace", fail)          # every re-mesh; start() meshes as usual
+    monkeypatch.setattr(meshing, "MeshSpace", fail)          # every re-mesh; start() meshes as usual
     env = SearchEnv("deep_u", world={"map": "unknown"})
     agent = StrategyAgent(STRATEGIES["reciprocity"], {"h": 3.0, "max_steps": 4})
     ep = rollout(env, agent, seed=0)

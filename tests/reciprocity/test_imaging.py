@@ -220,7 +220,7 @@ def test_the_imaging_map_is_a_belief_and_the_strategys_belief():
     import numpy as np
     from reciprocity.api import execute
     from reciprocity.beliefs import Belief
-    from reciprocity.imaging import ImagingMap
+    from reciprocity.beliefs.imaging import ImagingMap
 
     _, strategy, _ = execute("paper", "reciprocity", seed=0, params={"h": 4.0, "max_steps": 3})
     belief = strategy.belief
@@ -258,3 +258,4 @@ def test_gaussian_predictive_entropy_against_brute_force_quadrature():
         want[y] = np.sum(pz * hz) * dz
     # 3-point Gauss-Hermite per mixture component: within 0.03 nats of the fine quadrature (0.013 measured)
     assert np.allclose(got, want, atol=0.03), (got, want)
+

@@ -131,7 +131,7 @@ def test_car_episode_end_to_end_and_reproducible(small, tmp_path):
     assert strat.sigma_used == pytest.approx(np.sqrt(2.0) * independent)
     assert strat.imaging.offset_sd == pytest.approx(nominal["reading_bias"])
     terms = strat.error_terms                # the platform's and the discretisation's, in quadrature
-    assert terms["platform"] == r.strategies.reciprocal.CALIBRATED_MODEL_ERROR and 0 < terms["discretisation"] < 0.05
+    assert terms["platform"] == r.strategies.imaging_search.likelihood.CALIBRATED_MODEL_ERROR and 0 < terms["discretisation"] < 0.05
     assert strat.imaging.model_error == pytest.approx(np.hypot(terms["platform"], terms["discretisation"]))
     text = ep.to_json(tmp_path / "ep.json")
     back = json.loads(text)

@@ -107,7 +107,7 @@ def test_info_rule_gives_up_when_no_point_separates_the_modes(empty):
     p = solver.nodes
     s.imaging._cache["P"] = np.exp(-np.sum((p - [40.0, 110.0]) ** 2, 1) / 8.0) + \
         np.exp(-np.sum((p - [100.0, 110.0]) ** 2, 1) / 8.0)
-    s._reachable &= p[:, 1] < 4.0
+    s.reachability.reachable &= p[:, 1] < 4.0
     assert s.next_point() is None
     assert s.outcome.reason == r.StopReason.GAVE_UP
     found = re.search(r"tells the modes apart; 2 modes, the two largest (\d+) cm apart", s.outcome.detail)
@@ -130,7 +130,7 @@ def test_belief_out_of_reach_stops_with_its_probability(empty):
     """A source behind a gap the observer cannot pass: the region still touches the
     reachable part (weak readings through the gap), but less than UNREACH_MASS of the
     belief lies within reach: the search stops and says how sure it is."""
-    from reciprocity.strategies.reciprocal import UNREACH_MASS
+    from reciprocity.strategies.imaging_search.stop_rule import UNREACH_MASS
     arena, solver = empty
     x = solver.nodes[:, 0]
     for strip, stops in ((0.2, True), (1.0, False)):
@@ -140,8 +140,8 @@ def test_belief_out_of_reach_stops_with_its_probability(empty):
         s.imaging.add((20.0, 60.0), 0.0)
         # most belief far right, a faint strip just beyond the reachable part
         s.imaging._cache["P"] = np.where(x > 110, 1.0, np.where((x > 55) & (x < 60), strip, 0.0))
-        within = s.imaging.weights()[s._near_reachable()].sum()
-        assert (within < UNREACH_MASS) == stops and (s.region() & s._near_reachable()).any()
+        within = s.imaging.weights()[s.within_reach()].sum()
+        assert (within < UNREACH_MASS) == stops and (s.region() & s.within_reach()).any()
         s._check_reachable()
         if stops:
             assert s.outcome.reason == r.StopReason.UNREACHABLE
@@ -181,7 +181,7 @@ def test_info_rule_statistics_on_empty(empty):
 def test_the_likelihood_adds_its_error_terms_in_quadrature(empty):
     arena, solver = empty
     from reciprocity.fem.discretisation import discretisation_error
-    from reciprocity.strategies.reciprocal import CALIBRATED_MODEL_ERROR
+    from reciprocity.strategies.imaging_search.likelihood import CALIBRATED_MODEL_ERROR
     disc = discretisation_error(solver).relative
     s = started(solver, arena)
     assert s.error_terms["discretisation"] == disc > 0 and s.error_terms["noise"] == pytest.approx(12.0)
@@ -226,9 +226,9 @@ def test_the_credible_rule_holds_a_search_whose_belief_has_a_near_second_mode():
     assert np.hypot(*(est - a)) < 1.0
     assert 0.7 < im.weights()[np.hypot(*(nodes - est).T) <= 3.0].sum() < 0.95
     loose = started(solver, arena, credible_radius=float("inf"))
-    assert loose._tail_within(est, im) and not s._tail_within(est, im)
+    assert loose.stop_rule.tail_within(est, im) and not s.stop_rule.tail_within(est, im)
     im = belief(0.0)
-    assert s._tail_within(im.estimate(), im)
+    assert s.stop_rule.tail_within(im.estimate(), im)
 
 
 def test_an_empty_region_is_not_a_found_source(empty):
@@ -268,20 +268,20 @@ def test_possible_sources_behind_a_slit_are_out_of_reach(slit):
     but seen from nowhere the observer can go: a unit source just behind the slit reads
     below DETECT_SNR x the noise on the whole edge of the reachable part, so it is not
     within reach; the same distance in the open is."""
-    from reciprocity.strategies.reciprocal import DETECT_SNR
+    from reciprocity.strategies.imaging_search.reachability import DETECT_SNR
     from reciprocity.strategies.reach import edge_nodes
     arena, solver = slit
     s = started(solver, arena, noise=12.0, start=(30.0, 120.0), model_error=0.0, clearance=4.0)
     s.restrict(lambda pts: pts[:, 0] < 56)          # the car's side, 4 cm from the wall
     s.imaging.add((30.0, 120.0), 0.0)               # the test applies from the first reading
-    p, near = solver.nodes, s._near_reachable()
+    p, near = solver.nodes, s.within_reach()
     behind = (p[:, 0] > 66) & (p[:, 0] < 70) & (p[:, 1] > 131) & (np.hypot(p[:, 0] - 56, p[:, 1] - 136) < 11)
     assert behind.sum() >= 5
     # within reach by distance and by path (through the slit): the old test let them in
-    assert s._near[behind].all()
+    assert s.reachability._near[behind].all()
     assert not near[behind].any()
     # the adjoint fields of the whole edge agree: none of them sees these nodes
-    edge = edge_nodes(s.space.edges, s._reachable)
+    edge = edge_nodes(s.space.edges, s.reachability.reachable)
     edge = edge[p[edge, 1] > 100]                   # the rest lies farther from them
     g = solver.greens(p[edge])[behind]
     noise = s.sigma_used / np.sqrt(2.0)
@@ -291,14 +291,14 @@ def test_possible_sources_behind_a_slit_are_out_of_reach(slit):
     s2.restrict(lambda pts: pts[:, 0] < 40)
     s2.imaging.add((30.0, 120.0), 0.0)
     open_strip = (p[:, 0] > 46) & (p[:, 0] < 50) & (p[:, 1] > 20) & (p[:, 1] < 120)
-    assert s2._near_reachable()[open_strip].all()
+    assert s2.within_reach()[open_strip].all()
 
 
 def test_mostly_out_of_reach_reads_where_the_reachable_belief_lies(empty):
     """92 % of the belief out of reach, the rest in one blob the observer can reach: the
     next reading goes to the blob (to find the source there or rule it out), and the
     summary keys say how much lies out of reach and how large the reachable part is."""
-    from reciprocity.strategies.reciprocal import TEST_REACH_ABOVE
+    from reciprocity.strategies.imaging_search.stop_rule import TEST_REACH_ABOVE
     arena, solver = empty
     s = started(solver, arena, model_error=0.0)
     s.restrict(lambda pts: pts[:, 0] < 50)
@@ -310,7 +310,7 @@ def test_mostly_out_of_reach_reads_where_the_reachable_belief_lies(empty):
     s._check_reachable()
     assert not s.done
     assert TEST_REACH_ABOVE < s.notes["mass_out_of_reach"] < 0.95
-    reachable = s.space.cell_areas[s._reachable].sum()
+    reachable = s.space.cell_areas[s.reachability.reachable].sum()
     assert s.notes["reachable_area"] == pytest.approx(reachable, abs=0.1)
     nxt = s.next_point()
     assert np.hypot(*(nxt - [40.0, 110.0])) < s.reach

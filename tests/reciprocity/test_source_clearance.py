@@ -12,7 +12,7 @@ from reciprocity.campaign.spec import SOURCE_CLEARANCE
 from reciprocity.campaign.worker import world_draw
 from reciprocity.env import SearchEnv, rollout
 from reciprocity.errors import SearchError
-from reciprocity.imaging import ImagingMap
+from reciprocity.beliefs.imaging import ImagingMap
 from reciprocity.scenarios import from_dict
 from reciprocity.strategies import STRATEGIES
 from reciprocity.strategies.agent import StrategyAgent

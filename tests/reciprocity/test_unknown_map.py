@@ -443,12 +443,12 @@ def test_a_target_the_platform_refused_stays_out_of_reach_after_a_remesh():
         run.advance(agent.act())
     strat = agent.strategy
     assert not strat.done and strat.mapping.revision >= 1
-    point = strat.space.points[np.flatnonzero(strat._reachable)[len(np.flatnonzero(strat._reachable)) // 2]].copy()
+    point = strat.space.points[np.flatnonzero(strat.reachability.reachable)[len(np.flatnonzero(strat.reachability.reachable)) // 2]].copy()
     strat.reject(Measure(point), point, "behind a gap narrower than twice the clearance")
     around = lambda: strat.space.around(point, max(0.5 * strat.d, strat.solver.h))
-    assert around().any() and not strat._reachable[around()].any()
+    assert around().any() and not strat.reachability.reachable[around()].any()
     strat._remesh(strat._here)
-    assert around().any() and not strat._reachable[around()].any()
+    assert around().any() and not strat.reachability.reachable[around()].any()
     strat.mapping._refused.clear()                                        # forgotten: reachable again
     strat._remesh(strat._here)
-    assert strat._reachable[around()].any()
+    assert strat.reachability.reachable[around()].any()

@@ -6,6 +6,9 @@ the maps are combined into ``P_M`` (eq. 8, their mean) or, as the Bayesian
 alternative, into their normalised product (the likelihood of all measurements,
 rescaled to a maximum of 1). The region of possible sources ``{P_M >= eps}`` has its
 area computed exactly on the piecewise-linear interpolant of ``P_M`` over the mesh.
+
+The map is composed of parts: how the maps combine (:mod:`.combiners`) and the geometry of
+its superlevel sets (:mod:`.level_sets`).
 """
 
 from __future__ import annotations
@@ -16,63 +19,14 @@ import numpy as np
 
 from arenas import as_points
 
-from .beliefs.base import Belief, Predictive, shannon_entropy
-from .errors import ReciprocityError
-from .fem.green import Field, GreenSolver
-from .fem.mesh import node_areas, triangle_areas
+from ..errors import ReciprocityError
+from ..fem.green import Field, GreenSolver
+from ..fem.mesh import node_areas, triangle_areas
+from .base import Belief, Predictive, shannon_entropy
+from .combiners import COMBINATIONS, STRENGTH_CELLS, combiner, correlated_misfit, marginal_misfit
+from .level_sets import contour, refined_maximum, superlevel_area
 
-__all__ = ["ImagingMap", "superlevel_area", "COMBINATIONS"]
-
-COMBINATIONS = ("mean", "product")
-#: Log-spaced cells over which the prior ``1/c`` of an unknown strength is averaged
-#: (:class:`ImagingMap`, ``strength_range``): over a factor 100, neighbouring edges 21 %
-#: apart; ``1/c`` is taken at the mean of ``c`` within each cell, so the marginal agrees
-#: with quadrature to within 2 % (``tests/reciprocity/test_imaging.py``).
-STRENGTH_CELLS = 24
-
-
-def superlevel_area(points: np.ndarray, triangles: np.ndarray, values: np.ndarray,
-                    level: float, areas: np.ndarray | None = None) -> float:
-    """Exact area of ``{f >= level}`` for the P1 interpolant ``f`` of nodal `values`.
-
-    Parameters
-    ----------
-    points : ndarray, shape (n, 2)
-        Node coordinates, cm.
-    triangles : ndarray, shape (m, 3)
-        Triangles as node indices.
-    values : ndarray, shape (n,)
-        Nodal values of ``f``.
-    level : float
-        Threshold.
-    areas : ndarray, shape (m,), optional
-        Precomputed triangle areas.
-
-    Returns
-    -------
-    float
-        Area, cm^2. Each triangle contributes its area times the exact fraction where
-        the linear interpolant is at least `level`.
-    """
-    area = triangle_areas(points, triangles) if areas is None else areas
-    f = values[triangles] - level
-    pos = f >= 0
-    count = pos.sum(axis=1)
-    frac = (count == 3).astype(float)
-    mixed = (count == 1) | (count == 2)
-    if mixed.any():
-        fm, pm, cm = f[mixed], pos[mixed], count[mixed]
-        # the lone vertex: the positive one when one is positive, else the negative one
-        lone_is_pos = cm == 1
-        lone = np.where(lone_is_pos, np.argmax(pm, axis=1), np.argmin(pm, axis=1))
-        rows = np.arange(len(fm))
-        fa = fm[rows, lone]
-        fb = fm[rows, (lone + 1) % 3]
-        fc = fm[rows, (lone + 2) % 3]
-        corner = (fa / (fa - fb)) * (fa / (fa - fc))
-        frac[mixed] = np.where(lone_is_pos, corner, 1.0 - corner)
-    return float(np.sum(area * frac))
-
+__all__ = ["ImagingMap", "superlevel_area", "COMBINATIONS", "STRENGTH_CELLS"]
 
 class _Columns:
     """An (n, m) array grown one column at a time inside a buffer of doubling width:
@@ -302,65 +256,8 @@ class ImagingMap(Belief):
         return self._cache["marginal"]
 
     def _marginal_misfit_now(self) -> np.ndarray:
-        """``-log`` of the likelihood integrated over the log-uniform strength prior, per
-        node (up to a constant): ``Σ (c g_k - I_k)^2 / sigma^2`` is quadratic in ``c``,
-        ``(A c^2 - 2 B c + C) / sigma^2``; its integral over ``[lo, hi]`` is a difference
-        of normal CDFs, and the prior's ``1/c`` is averaged over the cells of a log grid."""
-        from scipy.special import log_ndtr
-        lo, hi = self.strength_range
-        free = ~self.saturated
-        g, I = self._g[:, free], self.readings[free]
-        A = np.einsum("ij,ij->i", g, g)
-        B = g @ I
-        C = float(I @ I)
-        tiny = A <= 1e-300
-        Asafe = np.where(tiny, 1.0, A)
-        chat = B / Asafe
-        s = self.sigma / np.sqrt(2.0 * Asafe)                    # posterior std of c
-        la, lb = log_ndtr((lo - chat) / s), log_ndtr((hi - chat) / s)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            log_mass = lb + np.log1p(-np.exp(np.minimum(la - lb, 0.0)))
-        log_int = np.log(s * np.sqrt(2.0 * np.pi)) + log_mass  # log ∫ exp(-A (c - chat)^2 / sigma^2)
-        # E[1/c] under that truncated Gaussian, cell by cell of a log grid
-        lo_g = max(lo, hi * 1e-6)
-        edges = np.geomspace(lo_g, hi, STRENGTH_CELLS + 1)
-        t = (edges[None, :] - chat[:, None]) / s[:, None]
-        log_below, log_above = log_ndtr(t), log_ndtr(-t)
-        mass = np.diff(np.exp(log_below), axis=1)
-        pdf = np.exp(-0.5 * t * t) / np.sqrt(2.0 * np.pi)
-        mid = np.sqrt(edges[:-1] * edges[1:])
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            # 1/c at the mean of c within each cell (exact as the Gaussian narrows)
-            within = chat[:, None] + s[:, None] * (pdf[:, :-1] - pdf[:, 1:]) / mass
-            within = np.where(mass > 1e-12, within, mid)
-            # a cell narrow against the Gaussian: its density is linear across it, and the
-            # difference of densities above would cancel to round-off
-            width, centre = np.diff(edges), 0.5 * (edges[:-1] + edges[1:])
-            linear = centre - width ** 2 / 12.0 * (centre - chat[:, None]) / s[:, None] ** 2
-            within = np.clip(np.where(np.diff(t, axis=1) < 1e-2, linear, within), edges[:-1], edges[1:])
-            # the cells' shares of the mass from their logarithms: far in a tail (a node
-            # whose fitted strength lies far outside the prior) the masses themselves
-            # underflow, and their ratios are what counts
-            la, lb = log_below[:, :-1], log_below[:, 1:]
-            ua, ub = log_above[:, :-1], log_above[:, 1:]
-            low = lb + np.log1p(-np.exp(np.minimum(la - lb, 0.0)))
-            high = ua + np.log1p(-np.exp(np.minimum(ub - ua, 0.0)))
-            log_cell = np.where(t[:, :-1] + t[:, 1:] < 0, low, high)
-            top = log_cell.max(axis=1, keepdims=True)
-            share = np.exp(log_cell - top)
-            mean_inv = np.sum(share / within, axis=1) / share.sum(axis=1)
-            # a Gaussian so wide that no cell differs from the next: the prior alone
-            flat = np.log(hi / lo_g) / (hi - lo_g)
-            mean_inv = np.where(np.isfinite(mean_inv) & np.isfinite(top[:, 0]), mean_inv, flat)
-        misfit = (C - B * chat) / self.sigma ** 2 - log_int - np.log(mean_inv)
-        del log_below, log_above
-        # a node no reading sees: the likelihood does not depend on c, the prior integrates to 1
-        misfit = np.where(tiny, C / self.sigma ** 2 - np.log(np.log(hi / lo_g)), misfit)
-        if self.saturated.any():
-            c = np.clip(chat, lo, hi)
-            r = np.minimum(c[:, None] * self._g[:, self.saturated] - self.readings[self.saturated], 0.0)
-            misfit = misfit + np.sum(r * r, axis=1) / self.sigma ** 2
-        return np.where(np.isfinite(misfit), misfit, np.inf)
+        """:func:`~reciprocity.beliefs.combiners.marginal_misfit` of the readings now."""
+        return marginal_misfit(self._g, self.readings, self.saturated, self.sigma, self.strength_range)
 
     def p_maps(self) -> np.ndarray:
         """The maps ``p_k`` of eq. (7) at every node, shape (n_nodes, M)."""
@@ -371,22 +268,9 @@ class ImagingMap(Belief):
         return self._cache["p"]
 
     def _correlated_misfit(self, r: np.ndarray) -> np.ndarray:
-        """``-log`` likelihood per node (up to a constant) of readings with independent
-        variances ``d_k = s^2 + (model_error v_k)^2`` (``s = sigma/sqrt 2``) and one shared
-        offset of variance ``offset_sd^2`` integrated out (Sherman-Morrison; the
-        log-determinant counts, as the variances differ from node to node). `r` are the
-        residuals over ``sigma`` (censoring applied)."""
-        s2 = self.sigma ** 2 / 2.0
-        d = s2 + (self.model_error * self.model()) ** 2              # (n_nodes, M)
-        e = r * self.sigma                                           # residuals, signal units
-        q = np.sum(e * e / d, axis=1)
-        logdet = np.sum(np.log(d / s2), axis=1)
-        if self.offset_sd > 0:
-            b2 = self.offset_sd ** 2
-            inv_sum = np.sum(1.0 / d, axis=1)
-            q = q - b2 * np.sum(e / d, axis=1) ** 2 / (1.0 + b2 * inv_sum)
-            logdet = logdet + np.log1p(b2 * inv_sum)
-        return 0.5 * q + 0.5 * logdet
+        """:func:`~reciprocity.beliefs.combiners.correlated_misfit` of the residuals `r`
+        over ``sigma`` (censoring applied), with this map's errors."""
+        return correlated_misfit(r, self.sigma, self.model(), self.model_error, self.offset_sd)
 
     def _residuals(self) -> np.ndarray:
         """``(v_k - I_k) / sigma`` at every node; 0 where a saturated reading is
@@ -406,23 +290,7 @@ class ImagingMap(Belief):
         """The combined imaging function ``P_M`` at every node, in [0, 1]."""
         self._require_data()
         if "P" not in self._cache:
-            if self.combine == "mean":
-                P = self.p_maps().mean(axis=1)
-                if self.allowed is not None:
-                    P = np.where(self.allowed, P, 0.0)
-            else:
-                if self.strength_range is not None:
-                    s = self._marginal_misfit()
-                else:
-                    r = self._residuals()
-                    if self.model_error > 0 or self.offset_sd > 0:
-                        s = self._correlated_misfit(r)
-                    else:
-                        s = np.sum(r * r, axis=1)
-                if self.allowed is not None:
-                    s = np.where(self.allowed, s, np.inf)
-                P = np.exp(-(s - s.min()))
-            self._cache["P"] = P
+            self._cache["P"] = combiner(self.combine).values(self)
         return self._cache["P"]
 
     def restrict(self, allowed: np.ndarray | None) -> None:
@@ -487,7 +355,7 @@ class ImagingMap(Belief):
         ``c(x) G(y, x) = c(x) G(x, y)``: one back-substitution per candidate. The noise
         is the Gaussian whose likelihood is eq. (7): standard deviation ``sigma / sqrt 2``.
         """
-        from .models.base import GaussianNoise
+        from ..models.base import GaussianNoise
         pts = as_points(candidates, "candidates")
         g = self.solver.greens(pts)                       # (n_dofs, m)
         means = (g * self.strength_map()[:, None]).T      # (m, n)
@@ -515,42 +383,13 @@ class ImagingMap(Belief):
         fitted to the nodes within ``2.5 h``, when that quadratic is concave and its
         vertex stays within ``1.5 h`` of the node.
         """
-        P = self.values()
-        i = int(np.argmax(P))
-        x0 = self.nodes[i]
-        h = self.solver.h
-        near = np.flatnonzero(np.hypot(*(self.nodes - x0).T) <= 2.5 * h)
-        if near.size < 8:
-            return x0.copy()
-        d = (self.nodes[near] - x0) / h
-        A = np.column_stack([np.ones(len(d)), d[:, 0], d[:, 1], d[:, 0] ** 2,
-                             d[:, 0] * d[:, 1], d[:, 1] ** 2])
-        coef = np.linalg.lstsq(A, P[near], rcond=None)[0]
-        H = np.array([[2 * coef[3], coef[4]], [coef[4], 2 * coef[5]]])
-        if np.all(np.linalg.eigvalsh(H) < 0):
-            step = np.linalg.solve(H, -coef[1:3])
-            if np.hypot(*step) <= 1.5:
-                cand = x0 + h * step
-                if self.solver.locate(cand[None])[0] >= 0:
-                    return cand
-        return x0.copy()
+        return refined_maximum(self.solver, self.values())
 
     def level_set(self, k: int = -1) -> list[np.ndarray]:
         """Polylines (cm) of the reciprocity level set ``{v_k = I_k}`` (eq. 5)."""
         self._require_data()
-        return self._contour(self.model()[:, k], self.readings[k])
+        return contour(self.solver, self.model()[:, k], self.readings[k])
 
     def region_boundary(self, eps: float) -> list[np.ndarray]:
         """Polylines (cm) bounding the region ``{P_M >= eps}``."""
-        return self._contour(self.values(), eps)
-
-    def _contour(self, values: np.ndarray, level: float) -> list[np.ndarray]:
-        # matplotlib's triangle contouring, on a figure that is never shown
-        from matplotlib.figure import Figure
-        from matplotlib.tri import Triangulation
-        if not (values.min() < level < values.max()):
-            return []
-        tri = self.solver.triangulation if self.solver.order == 1 else Triangulation(
-            self.nodes[:, 0], self.nodes[:, 1], self.triangles)
-        cs = Figure().add_subplot().tricontour(tri, values, levels=[level])
-        return [np.asarray(s) for s in cs.allsegs[0] if len(s) > 1]
+        return contour(self.solver, self.values(), eps)
