@@ -15,6 +15,11 @@ For each requested point it
 Gradient samples are taken by the paper's manoeuvre (a short reverse, then forward and
 to the side) and gradient steps by bang-bang steering among the six actions. The
 controller knows only the camera's estimates and the calibrated readings.
+
+The class is assembled from three parts, each in its own module: the walls it plans on and
+the value functions it drives with (:mod:`~reciprocity.platforms.car_maps`), the steering
+along them with its guards (:mod:`~reciprocity.platforms.car_steering`) and Algorithm 2's
+manoeuvres (:mod:`~reciprocity.platforms.car_gradient`).
 """
 
 from __future__ import annotations
@@ -24,10 +29,8 @@ from dataclasses import asdict, dataclass, fields
 import numpy as np
 
 from arenas import Arena, ArenaError, CarSpec, Testbed
-from arenas.car import car_footprint
 from arenas.files import check_output
-from arenas.testbed import dead_reckon
-from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank, optimal_path, steering
+from hjplanner import OnDemandPlanner, PlanningError, ValueFunctionBank
 from hjplanner.limits import check_grid
 
 from ..errors import SearchError, UnreachableTarget
@@ -36,6 +39,9 @@ from ..observations import Observation
 from ..spaces.occupancy import OccupancyGrid
 from ..validation import Bound, check_bounds
 from .base import Platform
+from .car_gradient import GradientManoeuvre
+from .car_maps import SCAN_EVERY, SWEEP_MARGIN, WallMaps, _same_walls  # noqa: F401 (SWEEP_MARGIN: by its old path)
+from .car_steering import CUSP_SLACK, Steering
 from .lidar import Lidar
 
 __all__ = ["CAR_KEYS", "CarPlatform", "DrivingOptions", "PLANNERS", "check_car_options", "make_car_platform"]
@@ -43,42 +49,11 @@ __all__ = ["CAR_KEYS", "CarPlatform", "DrivingOptions", "PLANNERS", "check_car_o
 #: How the car gets the value function of a target.
 PLANNERS = ("on-demand", "bank")
 
-#: With a range sensor the car scans every this many cm driven (cm), and at every re-plan:
-#: a scan per camera frame (30 Hz) would come every 0.3 cm at the car's speed and add
-#: nothing a sensor of tens of cm has not seen.
-SCAN_EVERY = 5.0
 
-#: On an unknown map the cells under the car's body at each pose it drove through (as the
-#: camera estimates it) are free for certain; the body is drawn this much smaller on every
-#: side (cm), for the estimate's error and the car's contacts with walls.
-SWEEP_MARGIN = 0.5
 
-#: The scanned walls (hit cells as they are) reach on average half a cell into the free
-#: space (a wall's surface lies anywhere in the cell its beams hit, and the walls are
-#: traced along the cells' edges): the car keeps its clearance less this share of a cell
-#: from them, its clearance from the true walls on average.
-SCANNED_BIAS_CELLS = 0.5
 
-#: Inside the clearance band the car turns its motion away from the wall until it leaves
-#: at a slope (sine of the angle to the wall) of at least 0.05 + depth / 4 cm, and at most
-#: this: the steering law of the band's edge cannot see drift deeper into it.
-BAND_EXIT_SLOPE = 0.3
 
-#: The car keeps its body at least this far (cm) from the walls of its map where its
-#: steering can: the planner's clearance disc leaves a corner turned toward a wall no
-#: margin (the half-diagonal of the 7 x 3.8 cm body is 3.98 cm).
-BODY_MARGIN = 0.5
-#: How far ahead (cm of driving) the body's distance to the walls is foreseen.
-BODY_LOOKAHEAD = 2.0
-#: Where a path changes gear within this many cm of driving, the car changes gear at once
-#: when every command in the present gear would bring its body within BODY_MARGIN of a wall
-#: (the planner's cusp lies where the disc of the clearance touches the band's edge).
-CUSP_SLACK = 3.0
-#: Where along each side of the body its distance to the walls is taken (0: the corner).
-BODY_SIDE_SAMPLES = (0.0, 0.25, 0.5, 0.75)
 
-#: Six bang-bang actions (steer, direction): left / straight / right x forward / reverse.
-ACTIONS = tuple((u, v) for v in (1, -1) for u in (1, 0, -1))
 
 
 @dataclass(frozen=True)
@@ -154,7 +129,7 @@ class DrivingOptions:
             raise SearchError(f"driving option window must be a positive number of cm or None; got {self.window!r}")
 
 
-class CarPlatform(Platform):
+class CarPlatform(WallMaps, Steering, GradientManoeuvre, Platform):
     """The micro-car on the simulated testbed, as an observer for any strategy.
 
     Parameters
@@ -453,371 +428,8 @@ class CarPlatform(Platform):
                 break  # past the closest approach: stop rather than loop around
             dist = new_dist
 
-    def _plan(self, target: np.ndarray):
-        """The value function the car drives to `target` with, from its pose: on the
-        believed walls, or on an unknown map, when they shut the target out, on the scanned
-        walls (the map it then drives on). Drift into a wall's clearance band is backed
-        out of (:meth:`_unstick`) only when no map has a path from the pose itself.
-        UnreachableTarget when no map has a path."""
-        candidates, failure = [], None
-        for walls in ("believed", "scanned") if self.grid is not None else ("believed",):
-            self._plan_on(walls)
-            try:
-                vf = self._solve(target)
-            except UnreachableTarget as exc:
-                failure = exc
-                continue
-            if np.isfinite(vf(*self._virtual(vf, self.testbed.estimate))):
-                return self._driving_on(walls, vf)
-            candidates.append((walls, vf))
-        for walls, vf in candidates:
-            self._plan_on(walls)
-            est = self._virtual(vf, self.testbed.estimate)
-            if self._unstick(vf):
-                return self._driving_on(walls, vf)
-            failure = UnreachableTarget(target, (
-                f"target ({target[0]:.1f}, {target[1]:.1f}) cm cannot be reached from the car's "
-                f"pose ({est[0]:.1f}, {est[1]:.1f}): it is enclosed, or behind a gap narrower "
-                f"than twice the clearance of {self._clearance():g} cm"))
-        raise failure
 
-    def _solve(self, target: np.ndarray):
-        """The value function of `target` (or the nearest standable point) on the map the
-        car plans on now; UnreachableTarget when there is none."""
-        goal = self._standable(target)
-        try:
-            return self._value_for(goal)
-        except PlanningError as exc:
-            raise UnreachableTarget(target, f"no value function for target ({target[0]:.1f}, "
-                                    f"{target[1]:.1f}) cm: {exc}") from None
 
-    def _replan_target(self, target: np.ndarray):
-        """After the map changed on the way: the target's value function on the new map,
-        or on the scanned walls when the believed ones now shut it out from the pose;
-        UnreachableTarget when neither has it."""
-        failure = vf = None
-        try:
-            vf = self._solve(target)
-        except UnreachableTarget as exc:
-            failure = exc
-        if self.walls == "believed" and self.grid is not None and (
-                vf is None or not np.isfinite(vf(*self._virtual(vf, self.testbed.estimate)))):
-            self._plan_on("scanned")
-            try:
-                alt = self._solve(target)
-                if np.isfinite(alt(*self._virtual(alt, self.testbed.estimate))):
-                    return self._driving_on("scanned", alt)
-            except UnreachableTarget:
-                pass
-            self._plan_on("believed")
-        if vf is None:
-            raise UnreachableTarget(target, f"target ({target[0]:.1f}, {target[1]:.1f}) cm is "
-                                    f"behind walls the car has just seen: {failure}") from None
-        return vf
-
-    def _driving_on(self, walls: str, vf):
-        """Note that the car drives on `walls` with `vf` (returned)."""
-        if walls == "scanned":
-            self.scanned_plans += 1
-            self._event("the believed walls shut the target out: driving on the scanned walls")
-        self._note_map()
-        return vf
-
-    def _plan_on(self, walls: str) -> None:
-        """Plan on `walls` ("believed", or "scanned": brought up to the grid first)."""
-        if walls == "scanned":
-            self._refresh("scanned")
-        arena, planner = self._maps[walls]
-        self.walls = walls
-        if arena is not self.arena:
-            self.arena, self.planner = arena, planner
-            self._value_function = planner.get
-
-    def _refresh(self, walls: str) -> bool:
-        """Bring the map of `walls` up to the grid; True when it changed. A new map that
-        puts the car's position in a wall is not taken."""
-        here = self.testbed.estimate[:2].copy()
-        old = self._maps[walls][0]
-        new = (self.grid.believed_arena() if walls == "believed" else self.grid.scanned_arena()).without_scenario()
-        if new is old or _same_walls(new, old) or not new.contains(here[None])[0]:
-            return False
-        options = dict(self._planner_options, clearance=self._clearance(walls))
-        self._maps[walls] = (new, OnDemandPlanner(new, maxsize=8, **options))
-        return True
-
-    def _clearance(self, walls: str | None = None) -> float:
-        """The clearance the car keeps from `walls` (default: the walls it plans on), cm."""
-        if (walls or self.walls) == "scanned":
-            return self.options.clearance - SCANNED_BIAS_CELLS * self.grid.cell
-        return self.options.clearance
-
-    def _note_map(self) -> None:
-        """Log the walls the car plans on, with the time they became current (for the
-        video), when they differ from the last logged."""
-        if self.grid is None or self.arena is self._noted:
-            return
-        self._noted = self.arena
-        self._log.setdefault("maps", []).append(dict(
-            time=self.testbed.time, walls=self.walls,
-            obstacles=[np.round(np.asarray(o, dtype=float), 3).tolist() for o in self.arena.obstacles]))
-
-    def _value_for(self, goal: np.ndarray):
-        """The value function the car drives to `goal` with. On demand with a `window`:
-        solved in the rectangle of the car and the goal widened by the window, unless the
-        car's pose cannot reach the goal inside it; then on the whole map."""
-        o = self.options
-        if o.planner == "bank" or o.window is None:
-            return self._value_function(goal)
-        vf = self.planner.get(goal, near=self.testbed.estimate[:2], margin=o.window)
-        if "window" not in vf.meta or np.isfinite(vf(*self._virtual(vf, self.testbed.estimate))):
-            return vf
-        return self._value_function(goal)
-
-    def _sense(self) -> bool:
-        """One scan of the true walls from the true pose, kept for the strategy; on an
-        unknown map, taken into the car's grid at the camera's estimate. True when the
-        believed walls changed (the planner then works on the new map)."""
-        self._since_scan = 0.0
-        tb = self.testbed
-        scan = self.lidar.scan(self.world.true_arena, tb.car.pose, self.rng)
-        here = tb.estimate[:2].copy()
-        self._scans.append(Observation(here, float(scan.ranges.min()), tb.time, 0.0, "scan", agent=self.agent,
-                                       data=scan.as_data()))
-        if self.grid is None:
-            return False
-        spec = tb.spec
-        bodies = [car_footprint(p, spec.length - 2 * SWEEP_MARGIN, spec.width - 2 * SWEEP_MARGIN)
-                  for p in self._swept if np.all(np.isfinite(p))]
-        self._swept = []
-        self.grid.sweep(bodies)
-        self.grid.update(here, scan.angles, scan.ranges, scan.hit, scan.max_range)
-        changed = self._refresh("believed")
-        if self.walls == "scanned":
-            changed = self._refresh("scanned")
-        if not changed:
-            return False
-        self._plan_on(self.walls)
-        self._note_map()
-        self._event(f"map changed at ({here[0]:.1f}, {here[1]:.1f}): re-planning on "
-                    f"{len(self.arena.obstacles)} {self.walls} obstacle(s)")
-        return True
-
-    def _virtual(self, vf, est: np.ndarray) -> np.ndarray:
-        """The pose the controller steers from: the estimate, or, when drift has taken it
-        into the clearance band around the walls (where φ = inf; optimal paths run
-        along the band's edge), the estimate moved out of the band along the wall
-        normal, by at most 3 cm."""
-        est = np.asarray(est, dtype=float)
-        if np.isfinite(vf(*est)):
-            return est.copy()
-        normal = self._wall_normal(est[:2])
-        if normal is None:
-            return est.copy()
-        for shift in np.arange(0.25, 3.01, 0.25):
-            moved = np.array([est[0] + shift * normal[0], est[1] + shift * normal[1], est[2]])
-            if np.isfinite(vf(*moved)):
-                return moved
-        return est.copy()
-
-    def _replan(self, vf, est: np.ndarray):
-        """The optimal path from the estimated pose: (arc length at the end of each gear
-        stretch, gear of each stretch), or None if the pose cannot reach the target."""
-        try:
-            path = optimal_path(vf, est)
-        except PlanningError:
-            return None
-        self._log["replans"].append(est.tolist())
-        self._log["plans"].append(path.xy[:: max(1, len(path.xy) // 60)].tolist())
-        if len(path.direction) == 0:
-            return np.array([np.inf]), np.array([1])
-        s = np.cumsum(path.step_lengths)
-        switch = np.flatnonzero(np.diff(path.direction)) if len(path.direction) > 1 else np.array([], int)
-        ends = np.append(s[switch], np.inf)
-        gears = np.append(path.direction[switch], path.direction[-1])
-        return ends, gears
-
-    def _steer(self, vf, est: np.ndarray, v: int) -> float:
-        """Eq. (15) for gear v: ``u = -v sign(φ_θ)``, straight inside the dead band (the
-        planner's one steering law, :func:`hjplanner.steering`), at the pose `est` the
-        controller steers from (:meth:`_virtual`), with two guards the law cannot give:
-
-        - Inside the clearance band the law steers from the band's edge, where the
-          optimal path runs along the wall, and so cannot see drift that takes the car
-          deeper in: there the car turns its motion away from the wall until it leaves
-          the band at least at BAND_EXIT_SLOPE (steeper the deeper it is).
-        - The planner keeps the car's centre `clearance` from the walls, a disc as wide
-          as the body's half-diagonal: a corner turned toward a wall has no margin left.
-          Where the law's command would bring the body within BODY_MARGIN of a wall in
-          the next BODY_LOOKAHEAD of driving, the command that keeps it farthest is
-          taken instead.
-        """
-        u = float(steering(vf, est, self.dead_band, direction=v))
-        here = self.testbed.estimate
-        u = self._out_of_band(here, u, v)
-        return self._keep_body_off(here, u, v)
-
-    def _out_of_band(self, here: np.ndarray, u: float, v: int) -> float:
-        """`u`, or the turn that takes the motion out of the clearance band (see :meth:`_steer`)."""
-        depth = self._clearance() - float(self.arena.wall_distance(here[None, :2])[0])
-        if depth <= 0.0:
-            return u
-        normal = self._wall_normal(here[:2])
-        if normal is None:
-            return u
-        motion = v * np.array([np.cos(here[2]), np.sin(here[2])])
-        side = 1.0 if motion[0] * normal[1] - motion[1] * normal[0] >= 0.0 else -1.0  # +1: away is left
-        # the motion turns at v u / rho (counter-clockwise positive), away from the wall
-        # when v u has the sign of `side`
-        if float(motion @ normal) < min(BAND_EXIT_SLOPE, 0.05 + depth / 4.0) and v * u * side <= 0.0:
-            return float(v * side)
-        return u
-
-    def _keep_body_off(self, here: np.ndarray, u: float, v: int) -> float:
-        """`u`, or the command that keeps the body farther from the walls (see :meth:`_steer`)."""
-        gaps = self._gaps_ahead(here, v)
-        if gaps is None:
-            return u
-        now, ahead = gaps
-        if ahead[u] >= BODY_MARGIN or ahead[u] >= now:
-            return u
-        ahead = {u: ahead[u], **ahead}                  # the law's command first among equals
-        best = max(ahead, key=ahead.get)
-        return best if ahead[best] > ahead[u] else u
-
-    def _boxed_in(self, v: int) -> bool:
-        """Whether every command in gear `v` brings the body within BODY_MARGIN of a wall
-        in the next BODY_LOOKAHEAD of driving, closer than it is."""
-        gaps = self._gaps_ahead(self.testbed.estimate, v)
-        return gaps is not None and all(g < min(BODY_MARGIN, gaps[0]) for g in gaps[1].values())
-
-    def _gaps_ahead(self, here: np.ndarray, v: int) -> tuple[float, dict] | None:
-        """The body's distance to the walls at `here` and after BODY_LOOKAHEAD of driving
-        in gear `v` with each command (-1, 0, +1), cm; None when no command can bring it
-        within BODY_MARGIN in that distance."""
-        now = self._body_gap(here)
-        if now >= BODY_MARGIN + BODY_LOOKAHEAD:
-            return None
-        rho = self.testbed.spec.rho
-        return now, {c: self._body_gap(dead_reckon(here, c, v, BODY_LOOKAHEAD, rho)) for c in (-1.0, 0.0, 1.0)}
-
-    def _body_gap(self, pose: np.ndarray) -> float:
-        """The distance (cm) from the car's body at `pose` to the nearest wall of its map,
-        over the corners and along the sides of the body."""
-        spec = self.testbed.spec
-        corners = car_footprint(pose, spec.length, spec.width)
-        sides = np.concatenate([corners + t * (np.roll(corners, -1, axis=0) - corners) for t in BODY_SIDE_SAMPLES])
-        return float(self.arena.wall_distance(sides).min())
-
-    def _wall_normal(self, xy: np.ndarray) -> np.ndarray | None:
-        """The unit normal pointing away from the nearest wall at `xy` (cm), from the
-        wall distance's differences; None where it has no direction."""
-        e = 0.05
-        d = self.arena.wall_distance(xy + e * np.array([[1, 0], [-1, 0], [0, 1], [0, -1]]))
-        normal = np.array([d[0] - d[1], d[2] - d[3]])
-        size = float(np.hypot(*normal))
-        return normal / size if size > 0 else None
-
-    def _unstick(self, vf, attempts: int = 8) -> bool:
-        """Drift brought the estimated pose where φ = inf (inside the clearance band, or
-        facing a wall too close to turn): back out with the straight move that leads to
-        a finite φ. False if none does."""
-        tb = self.testbed
-        for _ in range(attempts):
-            est = tb.estimate
-            if np.isfinite(vf(*self._virtual(vf, est))):
-                return True
-            best, best_val = None, np.inf
-            for u, v in ACTIONS:
-                for dist in (2.0, 4.0, 6.0):
-                    end = dead_reckon(est, u, v, dist, tb.spec.rho)
-                    if not self._free(end, 0.5 * tb.spec.width):
-                        continue
-                    val = float(vf(*self._virtual(vf, end)))
-                    if val + dist < best_val:
-                        best, best_val = (u, v, dist), val + dist
-            if best is None:
-                return False
-            u, v, dist = best
-            self._event(f"unstick: {'reverse' if v < 0 else 'forward'} {dist:g} cm, steer {u:+d}")
-            for _ in range(self._ticks_for(dist)):
-                self._tick(u, v)
-        return bool(np.isfinite(vf(*self._virtual(vf, tb.estimate))))
-
-    # -- Algorithm 2: gradient manoeuvre and bang-bang steps ---------------------------
-    def _drive(self, steer: float, direction: int, distance: float) -> None:
-        for _ in range(self._ticks_for(distance)):
-            self._tick(steer, direction)
-
-    def _in_free_region(self, point: np.ndarray) -> bool:
-        """Whether `point` lies in the free region of the believed walls, or (on an
-        unknown map) of the scanned ones."""
-        if self._maps["believed"][0].contains(point[None])[0]:
-            return True
-        return self.grid is not None and self.grid.scanned_arena().contains(point[None])[0]
-
-    def _free(self, pose: np.ndarray, margin: float) -> bool:
-        return bool(self.arena.contains(pose[None, :2], margin)[0])
-
-    def _manoeuvre(self, n: int) -> list:
-        """The paper's gradient manoeuvre: a short reverse, measure; forward and to the
-        side, measure. Where a wall is behind, the mirror image (forward, then reverse to
-        the side). Returns the measurements."""
-        o, tb = self.options, self.testbed
-        rho, margin = tb.spec.rho, 0.5 * np.hypot(tb.spec.length, tb.spec.width)
-        est = tb.estimate.copy()
-        plans = []
-        for first in (-1, 1):
-            a = dead_reckon(est, 0.0, first, o.manoeuvre_reverse, rho)
-            for side in (1, -1):
-                b = dead_reckon(a, side, -first, o.manoeuvre_forward, rho)
-                mid = dead_reckon(a, side, -first, 0.5 * o.manoeuvre_forward, rho)
-                if all(self._free(p, margin) for p in (a, b, mid)):
-                    plans.append((first, side, self.arena.wall_distance(b[None, :2])[0]))
-        if not plans:
-            self._event("no room for the gradient manoeuvre: measuring in place")
-            first, side = -1, 1
-            legs = [(0.0, first, 0.3 * o.manoeuvre_reverse), (side, -first, 0.3 * o.manoeuvre_forward)]
-        else:
-            first, side, _ = max(plans, key=lambda p: (p[0] == -1, p[2]))
-            legs = [(0.0, first, o.manoeuvre_reverse), (side, -first, o.manoeuvre_forward)]
-        measured = []
-        for steer, direction, dist in legs[:n]:
-            self._drive(steer, direction, dist)
-            measured.append(self._measure())
-        return measured
-
-    def _bang_bang(self, target: np.ndarray) -> None:
-        """Step the sensor toward `target` choosing, every `bang_step` cm, the one of the
-        six actions whose chord points nearest to the target's direction (section II of
-        the paper)."""
-        o, tb = self.options, self.testbed
-        # the whole body, not just its width, must stay clear along the step (half the
-        # width let the corners scrape: 16 wall contacts in 24 gradient runs on the car)
-        rho, margin = tb.spec.rho, 0.5 * np.hypot(tb.spec.length, tb.spec.width) + 0.3
-        est = tb.estimate.copy()
-        length = float(np.hypot(*(target - tb.sensor.position(est)[0])))
-        driven = 0.0
-        while driven < length:
-            spot = tb.sensor.position(est)[0]
-            if np.hypot(*(target - spot)) <= 0.5 * o.bang_step:
-                break
-            want = np.arctan2(*(target - spot)[::-1])
-            best, best_gap = None, np.inf
-            for u, v in ACTIONS:
-                end = dead_reckon(est, u, v, o.bang_step, rho)
-                mid = dead_reckon(est, u, v, 0.5 * o.bang_step, rho)
-                if not (self._free(end, margin) and self._free(mid, margin)):
-                    continue
-                chord = tb.sensor.position(end)[0] - spot
-                gap = abs((np.arctan2(chord[1], chord[0]) - want + np.pi) % (2 * np.pi) - np.pi)
-                if gap < best_gap:
-                    best, best_gap = (u, v), gap
-            if best is None:
-                self._event("bang-bang step blocked by walls")
-                break
-            self._drive(*best, o.bang_step)
-            driven += o.bang_step
-            est = tb.estimate.copy()
 
 
 def _finite_somewhere(vf, points) -> np.ndarray:
@@ -829,10 +441,6 @@ def _finite_somewhere(vf, points) -> np.ndarray:
     return finite
 
 
-def _same_walls(a: Arena, b: Arena) -> bool:
-    """Whether two arenas have the same boundary and obstacles."""
-    return (np.array_equal(a.boundary, b.boundary) and len(a.obstacles) == len(b.obstacles)
-            and all(np.array_equal(x, y) for x, y in zip(a.obstacles, b.obstacles)))
 
 
 #: Keys accepted by :func:`make_car_platform`: the driving options, the car's
