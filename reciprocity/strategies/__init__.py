@@ -36,6 +36,7 @@ STRATEGIES: LazyRegistry = LazyRegistry(__name__, {
     "free-space-wind": "FreeSpaceWind",
     "infotaxis-wind": "WindInfotaxis",
     "free-space-infotaxis-wind": "FreeSpaceWindInfotaxis",
+    "surge-cast-wind": "SurgeCastWind",
     "infotaxis-ii": "InfotaxisII",
     "infotaxis-iii": "InfotaxisIII",
 })
@@ -64,6 +65,7 @@ __getattr__, _, _ = _lazy.attach(__name__, submod_attrs={
     "reciprocal": ["ReciprocityStrategy"],
     "wind_infotaxis": ["FreeSpaceWindInfotaxis", "WindInfotaxis"],
     "wind_reciprocity": ["FreeSpaceWind", "WindReciprocity"],
+    "wind_surge_cast": ["SurgeCastWind"],
     "reward_infotaxis": ["InfotaxisII", "InfotaxisIII"],
 })
 

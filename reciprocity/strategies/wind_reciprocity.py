@@ -50,7 +50,7 @@ from . import register
 from .base import SearchContext, Status, Strategy
 from .imaging_search.next_point import axis_point, mass_within_reach
 
-__all__ = ["ArenaCounts", "FreeSpaceCounts", "WindReciprocity", "FreeSpaceWind"]
+__all__ = ["ArenaCounts", "FreeSpaceCounts", "WindReciprocity", "FreeSpaceWind", "told_wind_direction"]
 
 #: Default ``max_steps``: readings of one search.
 MAX_STEPS = 80
@@ -70,6 +70,18 @@ def told_physics(nominal: dict) -> FlowParams:
     return FlowParams(segments_tuple(nominal["inflow"]), segments_tuple(nominal["outflow"]), float(nominal["speed"]),
                       float(nominal["D"]), float(nominal["tau"]), str(nominal["walls"]),
                       float(nominal["strength"]), float(nominal["detector"]))
+
+
+def told_wind_direction(nominal: dict) -> np.ndarray:
+    """Unit vector from the midpoint of the stated inflow segments to that of the outflow
+    segments: the direction the wind blows as a ``flow`` task states it, blind to the walls."""
+    mid_in = np.mean([np.mean(s, axis=0) for s in segments_tuple(nominal["inflow"])], axis=0)
+    mid_out = np.mean([np.mean(s, axis=0) for s in segments_tuple(nominal["outflow"])], axis=0)
+    along = mid_out - mid_in
+    size = float(np.hypot(*along))
+    if size == 0:
+        raise SearchError("the inflow and outflow midpoints coincide: the stated wind has no direction")
+    return along / size
 
 
 class ArenaCounts:
@@ -117,10 +129,7 @@ class FreeSpaceCounts:
     def __init__(self, nominal: dict, h: float):
         self.physics = p = told_physics(nominal)
         self.space = mesh_space(nominal["arena"].without_scenario(), h)
-        mid_in = np.mean([np.mean(s, axis=0) for s in p.inflow], axis=0)
-        mid_out = np.mean([np.mean(s, axis=0) for s in p.outflow], axis=0)
-        along = mid_out - mid_in
-        self.wind = p.speed * along / np.hypot(*along)
+        self.wind = p.speed * told_wind_direction(nominal)
         self.near = 0.5 * h
 
     def rates(self, z: np.ndarray) -> np.ndarray:

@@ -1,0 +1,157 @@
+"""Surge-cast in wind among walls (issue 38): the moth's baseline on the ``flow`` worlds.
+
+The reactive search of the plume literature, with no model of the plume: on a detection,
+surge upwind; when the plume is lost, cast across the wind in legs that grow until it is
+found again. Here the readings are counts over a dwell and the observer reads where it
+stops, so one reading is one move:
+
+- **the wind it uses** is the one the task states, blowing from the inflow's midpoint toward
+  the outflow's (the observer has no anemometer): among walls that bend the wind it is the
+  wall-blind direction the plume papers assume;
+- **a detection** is a count of at least ``hits``;
+- **surge**: the next point is ``step`` cm upwind of a detection;
+- **cast**: after a reading without one, the next point lies across the wind from the last
+  detection (from the start before any), ``cast`` cm on one side, then on the other side
+  one ``step`` further, and so on;
+- each point is the reachable node of the strategy's mesh nearest to the one asked for; a
+  leg the walls block turns to the other side;
+- **stop**: CONVERGED once ``declare`` readings in a row have not read more hits per
+  second than the best so far, with the estimate at the best; STEP_CAP after
+  ``max_steps`` readings. The estimate is where the most hits per second were read.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import SearchError
+from ..intents import Measure
+from ..outcome import StopReason
+from ..spaces import mesh_space
+from ..validation import number, whole
+from . import register
+from .base import SearchContext, Status, Strategy
+from .wind_reciprocity import told_wind_direction
+
+__all__ = ["SurgeCastWind"]
+
+
+@register
+class SurgeCastWind(Strategy):
+    """Surge upwind on a detection, cast across the wind when it is lost (see the module doc).
+
+    Parameters
+    ----------
+    step : float
+        Length of a surge, and how much each cast leg grows, cm.
+    cast : float
+        First cast leg, cm.
+    hits : int
+        Count that makes a reading a detection.
+    declare : int
+        Readings in a row without a higher hit rate than the best that stop the search.
+    max_steps : int
+        Readings before the search stops at its cap.
+    h : float
+        Mesh size of the nodes it moves between, cm.
+    clearance : float
+        Points read keep this distance from the walls, cm.
+    """
+
+    name = "surge-cast-wind"
+    worlds = ("flow",)
+    agents = 1
+
+    def __init__(self, *, step: float = 6.0, cast: float = 6.0, hits: int = 1, declare: int = 12,
+                 max_steps: int = 80, h: float = 2.0, clearance: float = 3.0):
+        super().__init__()
+        self.step = number(step, "step", 0.0, 1e3, lo_open=True, unit="cm")
+        self.cast = number(cast, "cast", 0.0, 1e3, lo_open=True, unit="cm")
+        self.hits = whole(hits, "hits", 1, 10 ** 9)
+        self.declare = whole(declare, "declare", 1, 100_000)
+        self.max_steps = whole(max_steps, "max_steps", 1, 100_000)
+        self.h = number(h, "h", 0.25, 20.0, unit="cm")
+        self.clearance = number(clearance, "clearance", 0.0, 100.0, unit="cm")
+
+    def params(self) -> dict:
+        return dict(step=self.step, cast=self.cast, hits=self.hits, declare=self.declare,
+                    max_steps=self.max_steps, h=self.h, clearance=self.clearance)
+
+    def start(self, ctx: SearchContext) -> None:
+        self._reset_state()
+        if ctx.world not in self.worlds:
+            raise SearchError(f"strategy {self.name!r} applies to flow worlds; got {ctx.world!r}")
+        self.space = mesh_space(ctx.nominal["arena"].without_scenario(), self.h)
+        self.downwind = told_wind_direction(ctx.nominal)
+        self._reachable = self.space.reachable_from(ctx.start[:2], self.clearance)
+        self._next = np.asarray(ctx.start[:2], dtype=float).copy()
+        self._anchor = self._next.copy()         # the last detection (the start before any)
+        self._leg, self._side = self.cast, 1.0
+        self._best, self._best_rate, self._since_best = None, -np.inf, 0
+        if not self._reachable.any():
+            self.stop(StopReason.UNREACHABLE, "no observation point is reachable")
+
+    def propose(self) -> Measure | None:
+        return None if self.done else Measure(self._next.copy())
+
+    def observe(self, observations, intent, agent: int = 0) -> None:
+        obs = observations[0]
+        here = np.asarray(obs.position, dtype=float)[:2]
+        count, rate = float(obs.value), float(obs.value) / max(float(obs.dwell), 1e-12)
+        self.n_measurements += 1
+        self.n_samples += 1
+        if rate > self._best_rate:
+            self._best, self._best_rate, self._since_best = here.copy(), rate, 0
+        else:
+            self._since_best += 1
+        self.status = Status(self._best.copy(), None, extra=dict(best_rate=self._best_rate, hits=count))
+        if self._since_best >= self.declare:
+            self.stop(StopReason.CONVERGED, f"{self.declare} readings without more than "
+                                            f"{self._best_rate:.3g} hits/s")
+        elif self.n_measurements >= self.max_steps:
+            self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} readings")
+        elif count >= self.hits:
+            self._anchor, self._leg = here.copy(), self.cast
+            self._next = self._nearest(here - self.step * self.downwind, here)
+        else:
+            self._next = self._cast(here)
+        if not self.done:
+            self.status.extra["next"] = self._next.tolist()
+
+    def restrict(self, mask_of) -> None:
+        mask = mask_of(self.space.points)
+        if mask is not None:
+            self._reachable &= mask
+
+    def reject(self, intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
+        """Leave out the neighbourhood of an unreachable point and cast on the other side."""
+        if self._count_rejection(reason):
+            return
+        self._reachable &= ~self.space.around(point, max(0.5 * self.step, self.h))
+        if not self._reachable.any():
+            self.stop(StopReason.NO_TARGET, "no admissible observation point left")
+            return
+        self._next = self._cast(np.asarray(point, dtype=float))
+
+    # -- moves ---------------------------------------------------------------------------
+    def _cast(self, here: np.ndarray) -> np.ndarray:
+        """The next cast point: across the wind from the last detection, alternating sides,
+        each leg one step longer; a leg the walls cut short turns to the other side."""
+        across = np.array([-self.downwind[1], self.downwind[0]])
+        for _ in range(4):
+            self._side = -self._side
+            want = self._anchor + self._side * self._leg * across
+            self._leg += self.step
+            nxt = self._nearest(want, here)
+            if np.hypot(*(nxt - here)) >= 0.5 * self.h:
+                return nxt
+        return self._nearest(self._anchor, here)
+
+    def _nearest(self, want: np.ndarray, here: np.ndarray) -> np.ndarray:
+        """The reachable node nearest to `want` (cm), other than `here` when another exists."""
+        idx = np.flatnonzero(self._reachable)
+        d = np.hypot(*(self.space.points[idx] - want).T)
+        away = np.hypot(*(self.space.points[idx] - here).T) >= 0.5 * self.h
+        if away.any():
+            d = np.where(away, d, np.inf)
+        return self.space.points[idx[int(np.argmin(d))]].copy()
