@@ -11,13 +11,15 @@ stops, so one reading is one move:
 - **a detection** is a count of at least ``hits``;
 - **surge**: the next point is ``step`` cm upwind of a detection;
 - **cast**: after a reading without one, the next point lies across the wind from the last
-  detection (from the start before any), ``cast`` cm on one side, then on the other side
-  one ``step`` further, and so on;
+  detection, ``cast`` cm on one side, then on the other side one ``step`` further, and so
+  on; before the first detection, legs of ``cast`` cm zig-zag upwind from the start
+  instead, each one ``step`` further upwind than the last (the plume is yet to be found);
 - each point is the reachable node of the strategy's mesh nearest to the one asked for; a
   leg the walls block turns to the other side;
-- **stop**: CONVERGED once ``declare`` readings in a row have not read more hits per
-  second than the best so far, with the estimate at the best; STEP_CAP after
-  ``max_steps`` readings. The estimate is where the most hits per second were read.
+- **stop**: CONVERGED once, after a first detection, ``declare`` readings in a row have
+  not read more hits per second than the best so far, with the estimate at the best;
+  STEP_CAP after ``max_steps`` readings. The estimate is where the most hits per second
+  were read.
 """
 
 from __future__ import annotations
@@ -86,6 +88,7 @@ class SurgeCastWind(Strategy):
         self._reachable = self.space.reachable_from(ctx.start[:2], self.clearance)
         self._next = np.asarray(ctx.start[:2], dtype=float).copy()
         self._anchor = self._next.copy()         # the last detection (the start before any)
+        self._detected = False
         self._leg, self._side = self.cast, 1.0
         self._best, self._best_rate, self._since_best = None, -np.inf, 0
         if not self._reachable.any():
@@ -105,13 +108,13 @@ class SurgeCastWind(Strategy):
         else:
             self._since_best += 1
         self.status = Status(self._best.copy(), None, extra=dict(best_rate=self._best_rate, hits=count))
-        if self._since_best >= self.declare:
+        if self._detected and self._since_best >= self.declare:
             self.stop(StopReason.CONVERGED, f"{self.declare} readings without more than "
                                             f"{self._best_rate:.3g} hits/s")
         elif self.n_measurements >= self.max_steps:
             self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} readings")
         elif count >= self.hits:
-            self._anchor, self._leg = here.copy(), self.cast
+            self._anchor, self._leg, self._detected = here.copy(), self.cast, True
             self._next = self._nearest(here - self.step * self.downwind, here)
         else:
             self._next = self._cast(here)
@@ -136,12 +139,15 @@ class SurgeCastWind(Strategy):
     # -- moves ---------------------------------------------------------------------------
     def _cast(self, here: np.ndarray) -> np.ndarray:
         """The next cast point: across the wind from the last detection, alternating sides,
-        each leg one step longer; a leg the walls cut short turns to the other side."""
+        each leg one step longer (before any detection, legs of ``cast`` zig-zagging
+        upwind); a leg the walls cut short turns to the other side."""
         across = np.array([-self.downwind[1], self.downwind[0]])
         for _ in range(4):
             self._side = -self._side
+            if not self._detected:              # no plume yet: zig-zag upwind
+                self._anchor = self._anchor - self.step * self.downwind
             want = self._anchor + self._side * self._leg * across
-            self._leg += self.step
+            self._leg += self.step if self._detected else 0.0
             nxt = self._nearest(want, here)
             if np.hypot(*(nxt - here)) >= 0.5 * self.h:
                 return nxt

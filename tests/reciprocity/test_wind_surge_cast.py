@@ -49,17 +49,31 @@ def test_a_detection_surges_upwind_by_a_step():
     assert nxt[0] == pytest.approx(here[0] - 6.0, abs=1.5) and abs(nxt[1] - here[1]) <= 1.5
 
 
-def test_without_detections_it_casts_across_the_wind_on_alternating_sides_with_growing_legs():
+def test_before_a_detection_it_zig_zags_upwind():
     strat = _started(step=4.0, cast=4.0, h=2.0)
     start = _read(strat, 0)
+    points = []
+    for _ in range(3):
+        points.append(strat.propose().point)
+        _read(strat, 0)
+    points = np.array(points)
+    assert np.all(np.diff(np.r_[start[0], points[:, 0]]) < 0)            # each leg further upwind
+    across = np.sign(points[:, 1] - start[1])
+    assert across[0] != across[1] and across[1] != across[2]
+
+
+def test_after_losing_the_plume_it_casts_across_the_wind_in_growing_legs():
+    strat = _started(step=4.0, cast=4.0, h=2.0)
+    centre = _read(strat, 2)                         # a detection: the casts centre here
+    _read(strat, 0)                                  # the surge point, and the plume lost
     offsets = []
     for _ in range(3):
-        offsets.append(strat.propose().point[1] - start[1])
+        p = strat.propose().point
+        offsets.append(p[1] - centre[1])
+        assert abs(p[0] - centre[0]) <= 2.0          # across the wind from the detection
         _read(strat, 0)
-    signs = np.sign(offsets)
-    assert signs[0] != signs[1] and signs[1] != signs[2]
+    assert np.sign(offsets[0]) != np.sign(offsets[1]) != np.sign(offsets[2])
     assert abs(offsets[0]) < abs(offsets[1]) < abs(offsets[2])
-    assert abs(strat.propose().point[0] - start[0]) <= 1.5          # across the wind from the start
 
 
 def test_surge_cast_runs_an_episode_and_stops_at_the_best_rate_read():
