@@ -86,6 +86,16 @@ SENSOR = (
     ("4g. secondary links seen perfectly (p_d 1, p_fa 0)", {}, {"secondary": [1.0, 0.0]}),
 )
 
+#: Ten lattices with every property the paper states of its Fig. 2 (R0 = 9, p = 0.35 within
+#: 0.01, connected, shortest paths 20, 14 and 8 from the entry): the first ten lattice seeds
+#: that ``benchmarks/ristic_lattice_search.py`` accepts (32 is ``ristic-fig2``, the scenario's).
+FIG2_LIKE_SEEDS = (32, 69, 120, 136, 151, 212, 250, 300, 305, 313)
+
+#: Rung 1 (map known, the lattice's own field) on each of those lattices
+#: (``--experiment lattices``): is the scenario's lattice a hard one?
+LATTICES = tuple((f"1L{s}. rung 1 on lattice_seed {s}", {"map": "known", "field": "lattice"},
+                  {"map": "known", "links": None, "lattice_seed": s}) for s in FIG2_LIKE_SEEDS)
+
 RUNGS = (
     ("1. map known, lattice field", {"map": "known", "field": "lattice"}, {"map": "known"}),
     ("1'. as 1, path planner", {"map": "known", "field": "lattice", "planner": "path"}, {"map": "known"}),
@@ -96,7 +106,8 @@ RUNGS = (
 
 
 #: The rows of each experiment (``--experiment``).
-EXPERIMENTS = {"ladder": RUNGS, "control": CONTROL, "stay": STAY, "controls": FIVE, "sensor": SENSOR}
+EXPERIMENTS = {"ladder": RUNGS, "control": CONTROL, "stay": STAY, "controls": FIVE, "sensor": SENSOR,
+               "lattices": LATTICES}
 #: Differences reported along the ladder, ``(a, b, what changes from a to b)``, printed as
 #: rate(a) − rate(b): what the change costs; in the other experiments, each row minus the first.
 LADDER_STEPS = (("1'", "1", "the one-step control instead of shortest paths"),
