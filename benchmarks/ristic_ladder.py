@@ -23,7 +23,9 @@ Success as in the paper (Sec. 5.1: on the source within 100 steps and self-local
 ``--experiment stay`` runs the paper's set-up with and without the stay control;
 ``--experiment controls`` scores Algorithm 2's five controls every step;
 ``--experiment sensor`` changes the reach of the link sensor (secondary links uninformative,
-or seen perfectly).
+or seen perfectly);
+``--experiment lattices`` runs rung 1 on ten lattices with every property the paper states
+of its Fig. 2.
 
 **One seed stream for every rung.** Run ``i`` of every rung has the episode seed of seed
 index ``i`` of the reproduce campaign ``reproduce ristic2014-table1 --protocol paper``
