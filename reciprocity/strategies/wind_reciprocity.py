@@ -50,7 +50,7 @@ from . import register
 from .base import SearchContext, Status, Strategy
 from .imaging_search.next_point import axis_point, mass_within_reach
 
-__all__ = ["ArenaCounts", "FreeSpaceCounts", "WindReciprocity", "FreeSpaceWind", "told_wind_direction"]
+__all__ = ["ArenaCounts", "FreeSpaceCounts", "WindReciprocity", "FreeSpaceWind", "ReachableNodes", "told_wind_direction"]
 
 #: Default ``max_steps``: readings of one search.
 MAX_STEPS = 80
@@ -144,8 +144,24 @@ class FreeSpaceCounts:
         return self.physics.detector * c
 
 
+class ReachableNodes:
+    """The nodes of :attr:`space` a search may read from (``_reachable``), narrowed by the
+    platform's reach and by the targets it refused (a mixin of the ``flow`` searches)."""
+
+    def restrict(self, mask_of) -> None:
+        mask = mask_of(self.space.points)
+        if mask is not None:
+            self._reachable &= mask
+
+    def _refuse_around(self, point: np.ndarray, radius: float) -> bool:
+        """Leave out the nodes within `radius` (cm) of a refused `point`; False when no
+        node is left."""
+        self._reachable &= ~self.space.around(point, radius)
+        return bool(self._reachable.any())
+
+
 @register
-class WindReciprocity(Strategy):
+class WindReciprocity(ReachableNodes, Strategy):
     """Reciprocity in wind: one adjoint solve per reading, the count likelihood, the
     ``"axis"`` rule and the credible stop (see the module doc).
 
@@ -254,16 +270,11 @@ class WindReciprocity(Strategy):
         else:
             self._choose_next()
 
-    def restrict(self, mask_of) -> None:
-        mask = mask_of(self.space.points)
-        if mask is not None:
-            self._reachable &= mask
-
     def reject(self, intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
         """Exclude the neighbourhood of an unreachable target and choose again."""
         if self._count_rejection(reason):
             return
-        self._reachable &= ~self.space.around(point, max(0.5 * self.d, self.h))
+        self._refuse_around(point, max(0.5 * self.d, self.h))
         self._choose_next()
 
     # -- the next point --------------------------------------------------------------------

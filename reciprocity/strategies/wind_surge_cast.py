@@ -33,13 +33,13 @@ from ..spaces import mesh_space
 from ..validation import number, whole
 from . import register
 from .base import SearchContext, Status, Strategy
-from .wind_reciprocity import told_wind_direction
+from .wind_reciprocity import ReachableNodes, told_wind_direction
 
 __all__ = ["SurgeCastWind"]
 
 
 @register
-class SurgeCastWind(Strategy):
+class SurgeCastWind(ReachableNodes, Strategy):
     """Surge upwind on a detection, cast across the wind when it is lost (see the module doc).
 
     Parameters
@@ -121,17 +121,11 @@ class SurgeCastWind(Strategy):
         if not self.done:
             self.status.extra["next"] = self._next.tolist()
 
-    def restrict(self, mask_of) -> None:
-        mask = mask_of(self.space.points)
-        if mask is not None:
-            self._reachable &= mask
-
     def reject(self, intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
         """Leave out the neighbourhood of an unreachable point and cast on the other side."""
         if self._count_rejection(reason):
             return
-        self._reachable &= ~self.space.around(point, max(0.5 * self.step, self.h))
-        if not self._reachable.any():
+        if not self._refuse_around(point, max(0.5 * self.step, self.h)):
             self.stop(StopReason.NO_TARGET, "no admissible observation point left")
             return
         self._next = self._cast(np.asarray(point, dtype=float))
