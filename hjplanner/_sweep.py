@@ -271,7 +271,10 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
     lies within the disk of radius ``bound - margin[c]`` around an earlier
     sample of certified distance ``bound`` (a point of that disk is at
     least ``margin[c]`` from every wall, the wall distance being
-    1-Lipschitz); samples in such disks are skipped.
+    1-Lipschitz); samples in such disks are skipped.  An arc whose end sample
+    is off the grid or surely within ``margin[c]`` of a wall (its distance
+    bounded above by ``D(corner) + |sample - corner|``) is rejected before
+    the walk: no certified disk can hold that sample.
     """
     nt, nc, nm = ci.shape
     nx, ny = distance.shape
@@ -304,6 +307,20 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
                                     bound = value
                             ok = bound >= margin[c] + reach[c] * half
                     if not ok:
+                        # The end sample first: an arc whose end leaves the grid, or lies surely
+                        # within margin[c] of a wall (an upper bound of the distance there, the
+                        # distance being 1-Lipschitz), is blocked; no certified disk can hold it.
+                        a = i + ci[k, c, nm - 1]
+                        b = j + cj[k, c, nm - 1]
+                        if a < 0 or b < 0 or a > nx - 2 or b > ny - 2:
+                            continue
+                        upper = np.inf
+                        for corner in range(4):
+                            value = distance[a + corner // 2, b + corner % 2] + corner_dist[k, c, nm - 1, corner]
+                            if value < upper:
+                                upper = value
+                        if upper < margin[c]:
+                            continue
                         ok = True
                         step = reach[c] / (nm - 1)  # arc length between samples
                         covered = -1.0  # samples up to this index lie in the certified disk of a checked one

@@ -158,21 +158,35 @@ def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], d
                 inv_self[k, c] = 1.0 / (1.0 - w[k, c, corner])
                 w[k, c, corner] = 0.0
     pad = int(max(np.abs(off_i).max(), np.abs(off_j).max())) + 2
-    # Clearance samples of every arc, relative to its start node (in grid units).
-    spacing = sample_spacing(grid.h)
-    points = arc_samples(np.repeat(starts, nc, axis=0), np.tile(u, nt), np.tile(v, nt), np.tile(s, nt), rho,
-                         spacing) / grid.h
-    points = points.reshape(nt, nc, -1, 2)
-    ci, cj = np.floor(points[..., 0]).astype(np.int64), np.floor(points[..., 1]).astype(np.int64)
-    corner_dist = grid.h * np.stack([np.hypot(points[..., 0] - ci - a, points[..., 1] - cj - b)
-                                     for a, b in ((0, 0), (0, 1), (1, 0), (1, 1))], axis=-1)
-    margin = clearance + 0.5 * s / (points.shape[2] - 1)
+    ci, cj, corner_dist, margin = arc_sample_cells(rho, grid, ctrl, clearance)
     adm = _sweep.stencil_masks(distance, free, float(clearance), ci, cj, corner_dist, margin, s)
     # Visit each layer against its forward straight motion (see _sweep).
     rev_i = np.cos(theta) >= 0
     rev_j = np.sin(theta) >= 0
     return dict(off_i=off_i, off_j=off_j, w=w, inv_self=inv_self, kk=kk, cost=cost, adm=adm, rev_i=rev_i,
                 rev_j=rev_j, pad=pad)
+
+
+def arc_sample_cells(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]],
+                     clearance: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The clearance samples of every stencil's arc, relative to its start node.
+
+    Returns ``ci, cj`` (ntheta, nc, m): the cell of each sample (grid units, from the
+    node), ``corner_dist`` (ntheta, nc, m, 4): its distance to the cell's corners (order
+    (0,0), (0,1), (1,0), (1,1); length unit), and ``margin`` (nc,): the certified wall
+    distance each sample needs, ``clearance`` plus half the spacing of its arc's samples.
+    """
+    theta = grid.theta
+    nt, nc = grid.ntheta, len(ctrl)
+    v, u, s = (np.array(column, dtype=float) for column in zip(*ctrl))
+    starts = np.column_stack([np.zeros(nt), np.zeros(nt), theta])
+    points = arc_samples(np.repeat(starts, nc, axis=0), np.tile(u, nt), np.tile(v, nt), np.tile(s, nt), rho,
+                         sample_spacing(grid.h)) / grid.h
+    points = points.reshape(nt, nc, -1, 2)
+    ci, cj = np.floor(points[..., 0]).astype(np.int64), np.floor(points[..., 1]).astype(np.int64)
+    corner_dist = grid.h * np.stack([np.hypot(points[..., 0] - ci - a, points[..., 1] - cj - b)
+                                     for a, b in ((0, 0), (0, 1), (1, 0), (1, 1))], axis=-1)
+    return ci, cj, corner_dist, clearance + 0.5 * s / (points.shape[2] - 1)
 
 
 def _validate_grid(rho, h, ntheta, clearance):

@@ -1,0 +1,94 @@
+"""The clear-arc bitmasks of the sweeps (``hjplanner._sweep.stencil_masks``) against what they
+must mean: every arc whose samples are all certified is admitted, no arc with a sample surely
+within the clearance of a wall is, and every admitted arc keeps the clearance from the walls as
+the arena's exact ``wall_distance`` measures it."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import arenas
+from hjplanner import solver
+from hjplanner._motion import arc_step
+
+#: Headings checked per case (a spread over the turn; every heading would only repeat the work).
+HEADINGS = (0, 5, 11, 17, 30)
+
+
+def _sample_bounds(ws, k: int):
+    """Lower and upper bounds of the wall distance at every clearance sample of the arcs of
+    heading ``k`` from every node: (nc, nx, ny, m) each, -inf/-inf off the grid; and the
+    certified distance each sample needs (nc,)."""
+    g = ws.grid
+    ci, cj, corner_dist, margin = solver.arc_sample_cells(ws.rho, g, ws.ctrl, ws.clearance)
+    i = np.arange(g.nx)[None, :, None, None] + ci[k][:, None, None, :]
+    j = np.arange(g.ny)[None, None, :, None] + cj[k][:, None, None, :]
+    inside = (i >= 0) & (j >= 0) & (i <= g.nx - 2) & (j <= g.ny - 2)
+    # a sample on a node of the grid's last line or column is on the grid: its own node's distance
+    on_node = (corner_dist[k][:, None, None, :, 0] == 0) & (i >= 0) & (j >= 0) & (i < g.nx) & (j < g.ny)
+    node = ws.distance[np.clip(i, 0, g.nx - 1), np.clip(j, 0, g.ny - 1)]
+    i, j = np.clip(i, 0, g.nx - 2), np.clip(j, 0, g.ny - 2)
+    corners = np.stack([ws.distance[i + a, j + b] for a, b in ((0, 0), (0, 1), (1, 0), (1, 1))], axis=-1)
+    near = corner_dist[k][:, None, None, :, :]
+    lower = np.where(inside, (corners - near).max(axis=-1), -np.inf)
+    upper = np.where(inside, (corners + near).min(axis=-1), np.where(on_node, node, -np.inf))
+    return lower, upper, margin
+
+
+CASES = {
+    "rectangle, no clearance": lambda: solver.prepare(((-1.0, 1.0), (-1.0, 1.0)), 0.3, 0.02, 64),
+    "paper, the car's clearance, reverse": lambda: solver.prepare(arenas.load("paper"), 15.0, 1.5, 48,
+                                                                  clearance=4.0, reverse=True),
+    "maze, the car's clearance": lambda: solver.prepare(arenas.load("maze"), 15.0, 1.0, 48, clearance=4.0),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_masks_admit_every_certified_arc_and_no_arc_surely_blocked(case):
+    ws = CASES[case]()
+    adm = ws.stencils["adm"]
+    nc = len(ws.ctrl)
+    bits = np.uint32(1) << np.arange(nc, dtype=np.uint32)
+    extra = 0
+    for k in HEADINGS:
+        lower, upper, margin = _sample_bounds(ws, k)
+        admitted = ((adm[k][None] & bits[:, None, None]) != 0) & ws.free[None]
+        certified = (lower >= margin[:, None, None, None]).all(axis=-1) & ws.free[None]
+        # a sample off the grid, or whose distance is below the clearance: the arc meets a wall
+        surely_blocked = (upper < ws.clearance).any(axis=-1)
+        assert certified.any() and surely_blocked.any() and not certified.all()
+        assert not (certified & ~admitted).any(), "an arc with every sample certified is refused"
+        assert not (admitted & surely_blocked).any(), "an arc with a point within the clearance is admitted"
+        extra += int((admitted & ~certified).sum())
+    if case != "rectangle, no clearance":
+        assert extra > 0  # the certified disks admit arcs the plain rule refuses: that path is tested below
+
+
+@pytest.mark.parametrize("case", ["paper, the car's clearance, reverse", "maze, the car's clearance"])
+def test_every_admitted_arc_keeps_the_clearance_from_the_true_walls(case):
+    """Arcs admitted through certified disks (not every sample certified on its own) are
+    sampled densely and measured with the arena's exact wall distance."""
+    ws = CASES[case]()
+    arena = arenas.load(case.split(",")[0])
+    g, adm = ws.grid, ws.stencils["adm"]
+    v, u, s = (np.array(column, dtype=float) for column in zip(*ws.ctrl))
+    rng = np.random.default_rng(5)
+    checked = 0
+    for k in HEADINGS:
+        lower, _, margin = _sample_bounds(ws, k)
+        certified = (lower >= margin[:, None, None, None]).all(axis=-1)
+        for c in range(len(ws.ctrl)):
+            admitted = ((adm[k] >> np.uint32(c)) & 1).astype(bool) & ws.free
+            ii, jj = np.nonzero(admitted & ~certified[c])
+            if not len(ii):
+                continue
+            pick = rng.choice(len(ii), min(len(ii), 60), replace=False)
+            poses = np.column_stack([g.x[ii[pick]], g.y[jj[pick]], np.full(len(pick), g.theta[k])])
+            fractions = np.linspace(0.0, 1.0, 65)
+            points = arc_step(poses[:, None, :], u[c], v[c], s[c] * fractions[None, :], ws.rho)[..., :2]
+            distance = np.asarray(arena.wall_distance(points.reshape(-1, 2)))
+            inside = np.asarray(arena.contains(points.reshape(-1, 2)))
+            assert inside.all() and distance.min() >= ws.clearance - 1e-9
+            checked += len(pick)
+    assert checked > 100
