@@ -1,13 +1,14 @@
 """Reciprocity in wind step by step: the posterior over the source after each doubling of the readings.
 
-    python examples/wind_search_figure.py --out DIR [--seed 3] [--h 2] [--truth-h 0.5] [--max-steps 80]
+    python examples/wind_search_figure.py --out DIR [--seed 3] [--h 2] [--truth-h 0.5] [--max-steps 80] [--video]
 
 One ``reciprocity-wind`` episode on ``paper-wind`` (the source and start drawn for
 `--seed` as campaigns draw them). The figure is drawn from the episode's record alone
 (``run(..., figures=True)``): the strategy's posterior after readings 1, 2, 4, 8, ... and
 the last (:meth:`CountPosterior.first <reciprocity.beliefs.counts.CountPosterior.first>`),
 the readings as dots, and, from the truth of the finished episode, the wind's
-streamlines and the true source (red star). Writes ``wind_search_steps.png``.
+streamlines and the true source (red star). Writes ``wind_search_steps.png``, and with
+``--video`` the video of the search, ``wind_search.mp4`` (:func:`reciprocity.viz.count_video.write_count_video`).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from pathlib import Path
 from reciprocity.api import run
 from reciprocity.campaign.worker import world_draw
 from reciprocity.scenarios import load_scenario
+from reciprocity.viz.count_video import write_count_video
 from reciprocity.viz.figures import count_steps_figure
 
 
@@ -28,6 +30,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--h", type=float, default=2.0, help="mesh size of the strategy's model, cm")
     ap.add_argument("--truth-h", type=float, default=0.5, help="mesh size of the truth's solver, cm")
     ap.add_argument("--max-steps", type=int, default=80, help="readings before the search stops at its cap")
+    ap.add_argument("--video", action="store_true", help="also write the video, wind_search.mp4")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -39,6 +42,8 @@ def main(argv=None) -> dict:
                              wind=episode.truth["wind"])
     path = out / "wind_search_steps.png"
     fig.savefig(path, dpi=110)
+    if args.video:
+        write_count_video(out / "wind_search.mp4", episode, sc.arena, dpi=80)
     s = episode.summary
     print(f"{path}: {s['n_measurements']} readings, error {s['error']:.2f} cm, {s['stop_reason']}")
     return s

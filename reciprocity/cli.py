@@ -152,7 +152,8 @@ def _header(world: str = "poisson") -> str:
 
 def _write_figures(out: Path, episode, arena, *, video: bool = False) -> list[Path]:
     """The episode's figures (PNG) from its record (``run(..., figures=True)``); on the car
-    also its painted floor, the sensor calibration and (unless told not to) the video."""
+    also its painted floor, the sensor calibration and (unless told not to) the video; in a
+    ``flow`` world (unless told not to) the video of the search over the wind."""
     from .viz.episode import episode_figures
     out.mkdir(parents=True, exist_ok=True)
     s = episode.summary
@@ -168,6 +169,9 @@ def _write_figures(out: Path, episode, arena, *, video: bool = False) -> list[Pa
             from .viz.video import write_video
             files.append(write_video(out / f"{prefix}.mp4", episode, arena, floor.image,
                                      imaging=episode.belief.get("imaging")))
+    elif video and "wind" in episode.truth and episode.trace:     # a flow world
+        from .viz.count_video import write_count_video
+        files.append(write_count_video(out / f"{prefix}.mp4", episode, arena))
     return files
 
 
@@ -322,7 +326,8 @@ def _run_one(args, plan: _Planned, out: Path | None):
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
         episode.to_json(out / f"{plan.strategy}_episode.json")
-        if episode.belief:                        # the strategy's record holds something to draw
+        # the strategy's record holds something to draw, or a flow world its video
+        if episode.belief or (args.video and "wind" in (episode.truth or {})):
             arena = plan.scenario.arena                 # None in a plume or filament world
             if arena is not None:
                 arena = arena.with_scenario(start=episode.summary["start"])
@@ -418,7 +423,7 @@ def _common(p: argparse.ArgumentParser) -> None:
                    help="car option, e.g. --car planner=bank, --car rho=12 (repeatable; see "
                         "reciprocity.platforms.car.CAR_KEYS)")
     p.add_argument("--no-video", dest="video", action="store_false",
-                   help="car runs: do not write the MP4 videos into --out")
+                   help="car and flow runs: do not write the MP4 videos into --out")
     p.add_argument("--seed", type=int, default=0, help="random seed, a whole number >= 0 (default 0)")
     p.add_argument("--mismatch", action="append", default=[], metavar="KEY=VALUE",
                    help="make the true world differ from what the strategy is told, e.g. "

@@ -52,6 +52,8 @@ BUDGET = {
     "--arena generate:maze:7:cols=5,rows=5 --strategy reciprocity --quiet":
         "--arena generate:maze:7:cols=5,rows=5 --strategy reciprocity --h 3 --set max_steps=3 --quiet",
     "--scenario rooms.yaml --strategy reciprocity --quiet": "--scenario rooms.yaml --strategy reciprocity --h 3 --quiet",
+    "--strategy reciprocity-wind --h 2 --seed 0 --out wind_out":
+        "--strategy reciprocity-wind --h 2 --seed 0 --out wind_out --set max_steps=3",
 }
 #: A command still running after this many seconds is stopped: a safety net against a
 #: hang, far above what any command takes on a loaded machine (not a speed check).

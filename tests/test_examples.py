@@ -146,8 +146,10 @@ def test_plume_figures(tmp_path, pixels_near):
 
 
 def test_wind_search_figure(tmp_path, pixels_near):
-    s = load("wind_search_figure").main(["--out", str(tmp_path), "--h", "3", "--truth-h", "2", "--max-steps", "6"])
+    s = load("wind_search_figure").main(["--out", str(tmp_path), "--h", "3", "--truth-h", "2", "--max-steps", "6",
+                                         "--video"])
     assert s["n_measurements"] == 6
+    assert (tmp_path / "wind_search.mp4").stat().st_size > 10_000
     png = tmp_path / "wind_search_steps.png"
     assert pixels_near(png, (255, 0, 0), 60) > 20        # the true source's red star
     assert pixels_near(png, (255, 0, 255), 60) > 10      # the magenta estimate

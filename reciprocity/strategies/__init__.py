@@ -37,6 +37,7 @@ STRATEGIES: LazyRegistry = LazyRegistry(__name__, {
     "infotaxis-wind": "WindInfotaxis",
     "free-space-infotaxis-wind": "FreeSpaceWindInfotaxis",
     "surge-cast-wind": "SurgeCastWind",
+    "gradient-wind": "GradientWind",
     "infotaxis-ii": "InfotaxisII",
     "infotaxis-iii": "InfotaxisIII",
 })
@@ -66,6 +67,7 @@ __getattr__, _, _ = _lazy.attach(__name__, submod_attrs={
     "wind_infotaxis": ["FreeSpaceWindInfotaxis", "WindInfotaxis"],
     "wind_reciprocity": ["FreeSpaceWind", "WindReciprocity"],
     "wind_surge_cast": ["SurgeCastWind"],
+    "wind_gradient": ["GradientWind", "log_rate_slope"],
     "reward_infotaxis": ["InfotaxisII", "InfotaxisIII"],
 })
 

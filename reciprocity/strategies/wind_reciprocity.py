@@ -159,6 +159,16 @@ class ReachableNodes:
         self._reachable &= ~self.space.around(point, radius)
         return bool(self._reachable.any())
 
+    def _nearest(self, want: np.ndarray, here: np.ndarray) -> np.ndarray:
+        """The reachable node nearest to `want` (cm), other than `here` when another exists
+        (a node within half a mesh size of `here` is `here`)."""
+        idx = np.flatnonzero(self._reachable)
+        d = np.hypot(*(self.space.points[idx] - want).T)
+        away = np.hypot(*(self.space.points[idx] - here).T) >= 0.5 * self.h
+        if away.any():
+            d = np.where(away, d, np.inf)
+        return self.space.points[idx[int(np.argmin(d))]].copy()
+
 
 @register
 class WindReciprocity(ReachableNodes, Strategy):

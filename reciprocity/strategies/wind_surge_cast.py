@@ -146,12 +146,3 @@ class SurgeCastWind(ReachableNodes, Strategy):
             if np.hypot(*(nxt - here)) >= 0.5 * self.h:
                 return nxt
         return self._nearest(self._anchor, here)
-
-    def _nearest(self, want: np.ndarray, here: np.ndarray) -> np.ndarray:
-        """The reachable node nearest to `want` (cm), other than `here` when another exists."""
-        idx = np.flatnonzero(self._reachable)
-        d = np.hypot(*(self.space.points[idx] - want).T)
-        away = np.hypot(*(self.space.points[idx] - here).T) >= 0.5 * self.h
-        if away.any():
-            d = np.where(away, d, np.inf)
-        return self.space.points[idx[int(np.argmin(d))]].copy()

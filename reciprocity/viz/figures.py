@@ -151,7 +151,7 @@ def doubling_steps(n: int) -> list[int]:
     return sorted({2 ** i for i in range(int(np.log2(max(n, 1))) + 1)} | {n})
 
 
-def _streamlines(ax, wind, arena: Arena) -> None:
+def streamlines(ax, wind, arena: Arena) -> None:
     """The wind's streamlines, faint, over the arena's bounding box (NaN in the walls)."""
     (x0, x1), (y0, y1) = arena.bounds
     x, y = np.linspace(x0, x1, 120), np.linspace(y0, y1, 120)
@@ -209,7 +209,7 @@ def count_steps_figure(episode: Episode, posterior, triangulation: Triangulation
                            cmap="viridis", norm=norm, rasterized=True)
         draw_arena(ax, arena)
         if wind is not None:
-            _streamlines(ax, wind, arena)
+            streamlines(ax, wind, arena)
         path = _route(episode.trace[:k])
         ax.plot(path[:, 0], path[:, 1], "-", color="tab:blue", lw=0.8, alpha=0.8, zorder=4)
         hit = counts[:k] > 0

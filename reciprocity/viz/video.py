@@ -25,7 +25,7 @@ from arenas.car import CarSpec, car_footprint
 from ..episode import Episode
 from ..errors import SearchError
 
-__all__ = ["write_video"]
+__all__ = ["write_video", "encode_mp4"]
 
 #: Colours, BGR.
 COLORS = {
@@ -528,11 +528,11 @@ def write_video(path, episode: Episode, arena: Arena, floor_image: np.ndarray, *
     path.parent.mkdir(parents=True, exist_ok=True)
     frames = (renderer.render(float(t)) for t in tqdm(times, desc="video", unit="frame",
                                                        disable=not progress, leave=False))
-    _encode(path, frames, layout.size, fps)
+    encode_mp4(path, frames, layout.size, fps)
     return path
 
 
-def _encode(path: Path, frames, size: tuple[int, int], fps: int) -> None:
+def encode_mp4(path: Path, frames, size: tuple[int, int], fps: int) -> None:
     """Write BGR frames as H.264 (yuv420p, which browsers play) through the ffmpeg that
     imageio-ffmpeg ships; OpenCV's MPEG-4 Part 2 writer when that is not available."""
     try:
