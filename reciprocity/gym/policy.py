@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from ..errors import SearchError
-from ..strategies import STRATEGIES
 from ..strategies.agent import StrategyAgent
 
 __all__ = ["StrategyPolicy"]
@@ -43,11 +42,12 @@ class StrategyPolicy:
     """
 
     def __init__(self, name: str, env, **params):
-        if name not in STRATEGIES:
-            raise SearchError(f"unknown strategy {name!r}; choose from {', '.join(sorted(STRATEGIES))}")
+        from ..api import check
         self.name = name
         self.env = env.unwrapped
-        self.agent = StrategyAgent(STRATEGIES[name], params)
+        # checked as every front door checks an episode: the strategy, its parameters and
+        # that it applies to the environment's world, before any work (api.check)
+        self.agent = StrategyAgent(check(self.env.search.spec, name, params=params))
         self.env.attach(self.agent)
 
     @property

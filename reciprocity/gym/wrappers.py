@@ -7,7 +7,6 @@ import gymnasium
 from gymnasium import spaces
 
 from ..errors import SearchError
-from ..strategies import STRATEGIES
 from ..strategies.agent import StrategyAgent
 from .faces import PointFace
 from .render import belief_points
@@ -65,11 +64,10 @@ class BeliefImage(gymnasium.ObservationWrapper, gymnasium.utils.RecordConstructo
         if isinstance(size, bool) or not isinstance(size, int) or not 8 <= size <= 256:
             raise SearchError(f"size must be a whole number of pixels from 8 to 256; got {size!r}")
         inner = env.unwrapped
+        from ..api import check
         name = belief or BELIEF_OF[inner.search.scenario.world]
-        if name not in STRATEGIES:
-            raise SearchError(f"unknown strategy {name!r} for the belief")
         self.size = size
-        self._belief = StrategyAgent(STRATEGIES[name], params)
+        self._belief = StrategyAgent(check(inner.search.spec, name, params=params))   # checked once (api.check)
         inner.listen(self._take)
         self.centred = bool(centred)
         shape = (1, 2 * size - 1, 2 * size - 1) if self.centred else (2, size, size)

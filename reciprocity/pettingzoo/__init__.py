@@ -21,7 +21,6 @@ from ..errors import SearchError
 from ..intents import Intent
 from ..outcome import StopReason
 from ..scenarios import load_scenario
-from ..strategies import STRATEGIES
 from ..strategies.agent import StrategyAgent
 from ..gym.env import SUCCESS_REWARD, DeclaringAgent, Delivering, end_reward
 from ..gym.faces import STOP, face_for
@@ -222,10 +221,9 @@ class TeamPolicy:
     --scenario ... --strategy NAME --seed seed`` runs."""
 
     def __init__(self, name: str, env: SearchParallelEnv, **params):
-        if name not in STRATEGIES:
-            raise SearchError(f"unknown strategy {name!r}; choose from {', '.join(sorted(STRATEGIES))}")
+        from ..api import check
         self.name, self.env = name, env
-        self.agent = StrategyAgent(STRATEGIES[name], params)
+        self.agent = StrategyAgent(check(env.search.spec, name, params=params))   # checked once (api.check)
         env.attach(self.agent)
 
     def reset(self, seed: int | None = None) -> None:

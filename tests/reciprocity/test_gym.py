@@ -162,6 +162,16 @@ def test_bad_arguments_fail_cleanly():
     env = gymnasium.make("reciprocity/Plume-v0")
     with pytest.raises(SearchError, match="unknown strategy"):
         rg.StrategyPolicy("nope", env)
+    # checked by api.check when the policy is made, as on every front door: the world,
+    # then the parameters (name, value and what is allowed)
+    with pytest.raises(SearchError, match="does not apply to scenario .otto-2d."):
+        rg.StrategyPolicy("reciprocity", env)
+    with pytest.raises(SearchError, match=r"unknown parameter\(s\) nope for strategy 'infotaxis'"):
+        rg.StrategyPolicy("infotaxis", env, nope=1)
+    with pytest.raises(SearchError, match="particles must be a whole number from 10 to 100000; got -3"):
+        rg.StrategyPolicy("infotaxis", env, particles=-3)
+    with pytest.raises(SearchError, match="unknown parameter"):
+        rg.BeliefImage(env, nope=1)
     policy = rg.StrategyPolicy("infotaxis", env)
     env.reset(seed=1)
     with pytest.raises(SearchError, match="seed 1, not 2"):

@@ -51,3 +51,16 @@ def test_observations_and_infos_pickle():
     sent += list(env.step(stop))
     back = pickle.loads(pickle.dumps(sent))
     assert back[1]["observer_0"]["task"].n_agents == 3 and back[-1]["observer_0"]["summary"]["n_agents"] == 3
+
+
+def test_a_team_policy_is_checked_when_made():
+    """As on every front door (api.check): the strategy, that it directs a team in this
+    world, and its parameters, before the first reset."""
+    from reciprocity.errors import SearchError
+    env = parallel_env("hajieghrary")
+    with pytest.raises(SearchError, match="unknown strategy 'nope'"):
+        TeamPolicy("nope", env)
+    with pytest.raises(SearchError, match=r"unknown parameter\(s\) nope for strategy 'voi'"):
+        TeamPolicy("voi", env, nope=1)
+    with pytest.raises(SearchError, match="does not apply to scenario 'hajieghrary'"):
+        TeamPolicy("reciprocity", env)
