@@ -50,9 +50,10 @@ AREAS = (20.0, 40.0, 80.0, 200.0, 500.0, 1000.0, 2000.0)
 CREDIBLE = (0.5, 0.9, 0.95)
 
 
-def record(out: Path, runs: int, seed0: int = 0) -> None:
-    """Run `runs` searches (seeds seed0, seed0 + 1, ...) and write each run's readings to
-    ``out/run-SEED.json`` (skipped when there)."""
+def record(out: Path, runs: int, seed0: int = 0, platform: str = "car") -> None:
+    """Run `runs` searches (seeds seed0, seed0 + 1, ...) on `platform` (the car as the
+    paper ran it, or the point observer: the world's readings, noise 12) and write each
+    run's readings to ``out/run-SEED.json`` (skipped when there)."""
     from reciprocity import api
     out.mkdir(parents=True, exist_ok=True)
     for seed in range(seed0, seed0 + runs):
@@ -60,8 +61,9 @@ def record(out: Path, runs: int, seed0: int = 0) -> None:
         if path.exists():
             continue
         params = {"preset": "paper", "d": D, "area_tol": 1e-3, "max_steps": MAX_READINGS}
+        options = dict(PAPER_CAR) if platform == "car" else None
         episode, strategy, _ = api.execute("paper", "reciprocity", seed=seed, params=params,
-                                           platform="car", platform_options=dict(PAPER_CAR))
+                                           platform=platform, platform_options=options)
         im, s = strategy.imaging, episode.summary
         path.write_text(json.dumps(dict(seed=seed, source=s["source"], sigma=strategy.sigma_used,
                                         strength=float(im.strength), points=im.points.tolist(),
@@ -182,9 +184,11 @@ def main(argv=None) -> None:
     ap.add_argument("what", choices=("record", "evaluate"))
     ap.add_argument("--out", type=Path, default=Path("runs/landa_paper_preset"))
     ap.add_argument("--runs", type=int, default=10, help="runs to record (seeds 0, 1, ...)")
+    ap.add_argument("--platform", choices=("car", "point"), default="car",
+                    help="the car as the paper ran it (default), or the point observer")
     a = ap.parse_args(argv)
     if a.what == "record":
-        record(a.out, a.runs)
+        record(a.out, a.runs, platform=a.platform)
     else:
         print(evaluate(a.out))
 

@@ -14,7 +14,9 @@ requested one, and with a smaller ``d`` the next point snaps back to the lattice
 just read and the car never leaves its start); ``eps = 0.7`` with ``A_eps = 40 cm^2`` (a
 disk of radius 3.6 cm, inside the 5 cm success radius), the pair that stops nearest the
 paper's readings when re-evaluated offline on recorded runs of the car as the paper ran it
-(``benchmarks/landa_paper_preset.md``, ``docs/papers/landa2020.md``).
+(``benchmarks/landa_paper_preset.md``, ``docs/papers/landa2020.md``). The preset is for the
+paper's platform, the car: on the point observer, whose Gaussian readings fall below zero,
+eq. (8) stops on slivers far from the source (measured in the same file).
 """
 
 from __future__ import annotations
