@@ -24,7 +24,16 @@ MOVED = {
     "reciprocity.figures": ("reciprocity.viz.figures", "imaging_steps_figure"),
     "reciprocity.video": ("reciprocity.viz.video", "write_video"),
     "reciprocity.beliefs.occupancy": ("reciprocity.spaces.occupancy", "OccupancyGrid"),
+    "reciprocity.strategies.reciprocal": ("reciprocity.strategies.reciprocity", "ReciprocityStrategy"),
+    "reciprocity.strategies.plume_imaging": ("reciprocity.strategies.plume_reciprocity", "PlumeImaging"),
+    "reciprocity.strategies.hmm_search": ("reciprocity.strategies.hmm", "HMMSearch"),
+    "reciprocity.strategies.wind_reciprocity": ("reciprocity.strategies.reciprocity_wind", "WindReciprocity"),
+    "reciprocity.strategies.wind_infotaxis": ("reciprocity.strategies.infotaxis_wind", "WindInfotaxis"),
+    "reciprocity.strategies.wind_surge_cast": ("reciprocity.strategies.surge_cast_wind", "SurgeCastWind"),
 }
+
+#: Strategy modules that hold a family not named after its first member, and why.
+FAMILY_MODULES = {"reward_infotaxis": "infotaxis-ii and infotaxis-iii: infotaxis with a reward other than entropy"}
 
 
 @pytest.mark.parametrize("old", sorted(MOVED))
@@ -104,3 +113,17 @@ def test_package_docstrings_hold_no_measured_results():
                 found += [f"{path.relative_to(root)} ({getattr(node, 'name', 'module')}): {line.strip()}"
                           for line in doc.splitlines() if MEASURED.search(line)]
     assert found == []
+
+
+def test_every_strategy_module_is_named_after_the_strategy_it_holds():
+    """A registered name is its module's name with ``-`` for ``_``, or a family's module is
+    named after its first member (the glossary's *registered name*)."""
+    from reciprocity.strategies import STRATEGIES
+    firsts: dict[str, str] = {}
+    for name, cls in STRATEGIES.items():
+        module = cls.__module__.rsplit(".", 1)[1]
+        firsts.setdefault(module, name)
+    wrong = {module: first for module, first in firsts.items()
+             if module.replace("_", "-") != first and module not in FAMILY_MODULES}
+    assert not wrong, f"modules not named after their first strategy: {wrong}"
+    assert set(FAMILY_MODULES) <= set(firsts)

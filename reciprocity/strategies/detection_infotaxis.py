@@ -59,7 +59,7 @@ from ..models.detection import DetectionModel, WindEstimate
 from ..outcome import StopReason
 from . import register
 from .base import SearchContext, Status
-from .hmm_search import _PlaneWalk
+from .hmm import _PlaneWalk
 
 __all__ = ["DetectionInfotaxis", "entropy"]
 

@@ -3,7 +3,7 @@
 The Poisson equation is linear, so the readings of ``K`` sources are the sum of their
 fields: ``I_k = Σ_j c_j G(z_k, S_j) + noise``. :class:`SourceBook` keeps every reading
 and the sources found so far; the reciprocity search (:class:`~reciprocity.strategies.
-reciprocal.ReciprocityStrategy`) images each new source on the *residual* readings,
+reciprocity.ReciprocityStrategy`) images each new source on the *residual* readings,
 ``r_k = I_k - Σ_found ĉ_j G(z_k, Ŝ_j)``, where by reciprocity ``G(z_k, Ŝ_j)`` is the
 adjoint field of reading ``k`` read at ``Ŝ_j`` (no extra solve).
 

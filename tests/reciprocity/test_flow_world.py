@@ -12,7 +12,7 @@ from reciprocity.errors import SearchError
 from reciprocity.observations import Observation
 from reciprocity.scenarios import from_dict, load_scenario
 from reciprocity.strategies.base import SearchContext
-from reciprocity.strategies.wind_reciprocity import ArenaCounts, WindReciprocity
+from reciprocity.strategies.reciprocity_wind import ArenaCounts, WindReciprocity
 
 #: A 60 x 40 cm duct with one pillar, the wind in on the left and out on the right:
 #: meshes of a few thousand nodes, so an episode takes about a second.

@@ -61,7 +61,7 @@ def test_a_300_s_search_takes_under_10_s():
 
 
 def test_verify_heads_for_the_peak_and_stops_only_there():
-    from reciprocity.strategies.hmm_search import HMMSearch
+    from reciprocity.strategies.hmm import HMMSearch
     from reciprocity.strategies.base import SearchContext
     from reciprocity.observations import Observation
     s = HMMSearch(target="verify", min_time=1.0, stop_mass=0.3)
@@ -104,7 +104,7 @@ def test_farrell_table_compares_the_planners_on_the_same_starts():
 
 @pytest.mark.parametrize("discount", [False, True])
 def test_discount_visits_moves_the_goal_off_a_visited_cell(discount):
-    from reciprocity.strategies.hmm_search import HMMSearch
+    from reciprocity.strategies.hmm import HMMSearch
     from reciprocity.strategies.base import SearchContext
     from reciprocity.observations import Observation
     s = HMMSearch(target="verify", discount_visits=discount)

@@ -13,7 +13,7 @@ import pytest
 import arenas
 import reciprocity as r
 from reciprocity.campaign.tables.landa2020 import PAPER_CAR
-from reciprocity.strategies.reciprocal import PRESETS
+from reciprocity.strategies.reciprocity import PRESETS
 from reciprocity.viz.figures import imaging_steps_figure
 
 #: The paper's success radius, cm.

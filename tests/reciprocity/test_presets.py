@@ -9,7 +9,7 @@ import pytest
 
 from reciprocity.errors import SearchError
 from reciprocity.strategies.imaging_search.presets import DEFAULTS, PARTS, PRESETS, settings
-from reciprocity.strategies.reciprocal import PARAM_ORDER, ReciprocityStrategy
+from reciprocity.strategies.reciprocity import PARAM_ORDER, ReciprocityStrategy
 
 #: Keywords the mesh part takes, and the assembly's own.
 MESH = {"h", "solver", "source_clearance", "survey"}

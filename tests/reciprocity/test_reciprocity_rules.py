@@ -14,7 +14,7 @@ from reciprocity.observations import Observation
 from reciprocity.scenarios import load_scenario
 from reciprocity.strategies.agent import StrategyAgent
 from reciprocity.strategies.information import expected_entropy
-from reciprocity.strategies.reciprocal import PRESETS
+from reciprocity.strategies.reciprocity import PRESETS
 from reciprocity.models.green import cached_solver
 
 

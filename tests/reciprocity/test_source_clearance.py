@@ -17,7 +17,7 @@ from reciprocity.scenarios import from_dict
 from reciprocity.strategies import STRATEGIES
 from reciprocity.strategies.agent import StrategyAgent
 from reciprocity.strategies.multi_source import SourceBook
-from reciprocity.strategies.reciprocal import ReciprocityStrategy
+from reciprocity.strategies.reciprocity import ReciprocityStrategy
 
 PAPER = dict(world="poisson", arena="paper", source=[70.2, 70.2])
 

@@ -12,7 +12,7 @@ from reciprocity.errors import SearchError
 from reciprocity.observations import Observation
 from reciprocity.scenarios import from_dict, load_scenario
 from reciprocity.strategies.base import SearchContext
-from reciprocity.strategies.wind_gradient import GradientWind, log_rate_slope
+from reciprocity.strategies.gradient_wind import GradientWind, log_rate_slope
 
 DUCT = {"name": "duct", "boundary": [[0, 0], [60, 0], [60, 40], [0, 40]],
         "obstacles": [[[28, 12], [34, 12], [34, 28], [28, 28]]]}

@@ -12,7 +12,7 @@ from reciprocity.env import SearchEnv
 from reciprocity.errors import SearchError
 from reciprocity.scenarios import from_dict
 from reciprocity.strategies.base import SearchContext
-from reciprocity.strategies.wind_infotaxis import WindInfotaxis, expected_entropy
+from reciprocity.strategies.infotaxis_wind import WindInfotaxis, expected_entropy
 
 DUCT = {"name": "duct", "boundary": [[0, 0], [60, 0], [60, 40], [0, 40]],
         "obstacles": [[[28, 12], [34, 12], [34, 28], [28, 28]]]}

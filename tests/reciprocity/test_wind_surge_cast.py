@@ -11,8 +11,8 @@ from reciprocity.errors import SearchError
 from reciprocity.observations import Observation
 from reciprocity.scenarios import from_dict
 from reciprocity.strategies.base import SearchContext
-from reciprocity.strategies.wind_reciprocity import told_wind_direction
-from reciprocity.strategies.wind_surge_cast import SurgeCastWind
+from reciprocity.strategies.reciprocity_wind import told_wind_direction
+from reciprocity.strategies.surge_cast_wind import SurgeCastWind
 
 DUCT = {"name": "duct", "boundary": [[0, 0], [60, 0], [60, 40], [0, 40]],
         "obstacles": [[[28, 12], [34, 12], [34, 28], [28, 28]]]}

@@ -1,4 +1,4 @@
-"""The parts the reciprocity search (:class:`~reciprocity.strategies.reciprocal.ReciprocityStrategy`)
+"""The parts the reciprocity search (:class:`~reciprocity.strategies.reciprocity.ReciprocityStrategy`)
 is assembled from, each a small class or a few functions with its own tests:
 
 - :mod:`.likelihood`: eq. (7)'s ``sigma``, the model's error terms, the strength prior

@@ -32,7 +32,7 @@ from ..spaces import mesh_space
 from ..validation import number, whole
 from . import register
 from .base import SearchContext, Status, Strategy
-from .wind_reciprocity import ReachableNodes, told_wind_direction
+from .reciprocity_wind import ReachableNodes, told_wind_direction
 
 __all__ = ["GradientWind", "log_rate_slope"]
 

@@ -1,6 +1,6 @@
 """Cross-run (b): the reciprocity search's imaging and next-point rule on the plume world.
 
-An adapter, not the strategy of :mod:`reciprocity.strategies.reciprocal` itself (which
+An adapter, not the strategy of :mod:`reciprocity.strategies.reciprocity` itself (which
 is built on a FEM ``GreenSolver`` and jumps between distant measurement points): the
 parts of Algorithm 1 of Landa et al. that carry over to a plume, with the plume's mean
 rate in the place of the Green's function:
@@ -19,8 +19,7 @@ rate in the place of the Green's function:
   every step, and the point is chosen again after every reading;
 - **stop**: on contact (the plume world's FOUND), as every plume strategy.
 
-What the real strategy would need to run here unchanged (reciprocal.py is not ours to
-edit): an ``ImagingMap`` that accepts any column provider (``nodes``, ``h``,
+What the real strategy would need to run here unchanged: an ``ImagingMap`` that accepts any column provider (``nodes``, ``h``,
 ``field(source) -> mean reading at every node``) instead of a ``GreenSolver``, a
 per-reading likelihood other than eq. (7) (Poisson counts), and a route from the chosen
 point to unit steps (a platform that walks the plan and reads on the way).

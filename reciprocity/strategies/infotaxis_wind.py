@@ -3,12 +3,12 @@
 The infotaxis rule of the plume papers (Vergassola et al.; Song et al., papers/002) on the
 ``flow`` worlds, with two likelihoods, so that it meets reciprocity in wind on one footing:
 
-- ``infotaxis-wind``: the arena's own model (:class:`~reciprocity.strategies.wind_reciprocity.ArenaCounts`:
+- ``infotaxis-wind``: the arena's own model (:class:`~reciprocity.strategies.reciprocity_wind.ArenaCounts`:
   the advection-diffusion-decay Green's function of the arena's wind, which sees the walls);
 - ``free-space-infotaxis-wind``: the plume papers' own model
-  (:class:`~reciprocity.strategies.wind_reciprocity.FreeSpaceCounts`: a uniform wind, no walls).
+  (:class:`~reciprocity.strategies.reciprocity_wind.FreeSpaceCounts`: a uniform wind, no walls).
 
-Everything but the next point is :class:`~reciprocity.strategies.wind_reciprocity.WindReciprocity`'s:
+Everything but the next point is :class:`~reciprocity.strategies.reciprocity_wind.WindReciprocity`'s:
 the count posterior over (node, release rate) with the task's source clearance, one adjoint
 solve per reading, the credible stop and the reading cap. The next point:
 
@@ -31,7 +31,7 @@ from scipy.stats import poisson
 
 from ..validation import number, whole
 from . import register
-from .wind_reciprocity import BACKGROUND, D_READ, MAX_STEPS, FreeSpaceCounts, WindReciprocity
+from .reciprocity_wind import BACKGROUND, D_READ, MAX_STEPS, FreeSpaceCounts, WindReciprocity
 
 __all__ = ["WindInfotaxis", "FreeSpaceWindInfotaxis", "expected_entropy"]
 
@@ -90,7 +90,7 @@ class WindInfotaxis(WindReciprocity):
     support : int
         Most (node, rate) pairs of the posterior a score sums over.
     h, d, reach, credible_radius, credible_mass, max_steps, clearance, background, source_clearance
-        As :class:`~reciprocity.strategies.wind_reciprocity.WindReciprocity` (``reach`` serves
+        As :class:`~reciprocity.strategies.reciprocity_wind.WindReciprocity` (``reach`` serves
         only the jump when no move is left).
     """
 
