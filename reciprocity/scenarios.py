@@ -86,7 +86,7 @@ class WorldKind:
 
 
 #: World kinds by name; a built-in kind's module is imported on first use of its name.
-WORLD_KINDS: LazyRegistry = LazyRegistry("reciprocity.kinds", {
+WORLD_KINDS: LazyRegistry = LazyRegistry("reciprocity.wiring", {
     "poisson": "POISSON", "lattice": "LATTICE", "plume": "PLUME", "filament": "FILAMENT", "flow": "FLOW"})
 
 #: Built-in scenario files by name (filled by :func:`_scenario_files`).

@@ -24,6 +24,7 @@ MOVED = {
     "reciprocity.figures": ("reciprocity.viz.figures", "imaging_steps_figure"),
     "reciprocity.video": ("reciprocity.viz.video", "write_video"),
     "reciprocity.beliefs.occupancy": ("reciprocity.spaces.occupancy", "OccupancyGrid"),
+    "reciprocity.kinds": ("reciprocity.wiring", "POISSON"),
     "reciprocity.strategies.reciprocal": ("reciprocity.strategies.reciprocity", "ReciprocityStrategy"),
     "reciprocity.strategies.plume_imaging": ("reciprocity.strategies.plume_reciprocity", "PlumeImaging"),
     "reciprocity.strategies.hmm_search": ("reciprocity.strategies.hmm", "HMMSearch"),

@@ -88,7 +88,7 @@ def test_the_campaign_commands_declare_their_flags_on_use():
 
 
 @pytest.mark.parametrize("package", ["arenas", "hjplanner", "reciprocity", "reciprocity.fem",
-                                     "reciprocity.campaign", "reciprocity.kinds"])
+                                     "reciprocity.campaign", "reciprocity.wiring"])
 def test_lazy_exports_resolve_and_are_listed(package):
     module = importlib.import_module(package)
     assert module.__all__ and set(module.__all__) <= set(dir(module))

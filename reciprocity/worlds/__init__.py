@@ -1,5 +1,5 @@
 """Worlds (truth): what the sensor really reads. Their wiring to scenario files and
-platforms is in :mod:`reciprocity.kinds`."""
+platforms is in :mod:`reciprocity.wiring`."""
 
 from .base import Reading, World
 from .poisson import Mismatch, PoissonWorld, TRUTH_H, TRUTH_ORDER, truth_solver

@@ -62,7 +62,7 @@ def puff_concentration(d2: np.ndarray, sigma2: np.ndarray, mass: float) -> np.nd
 
 @dataclass(frozen=True)
 class FilamentParams:
-    """Parameters of the filament plume (validated by :mod:`reciprocity.kinds.filament`).
+    """Parameters of the filament plume (validated by :mod:`reciprocity.wiring.filament`).
 
     Attributes
     ----------

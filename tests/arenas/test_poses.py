@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[2]
 #: The modules that may turn degrees into radians: the pose conversion, and the plume kind's
 #: turns and wind direction (angles of a world's parameters, not poses). Any other is a
 #: second conversion of something a person wrote.
-CONVERTERS = {"arenas/poses.py", "reciprocity/kinds/plume.py", "reciprocity/models/plume.py"}
+CONVERTERS = {"arenas/poses.py", "reciprocity/wiring/plume.py", "reciprocity/models/plume.py"}
 
 
 def test_round_trip_and_shapes():

@@ -4,7 +4,7 @@ a detection's source map, the odour path under eq. (18)'s flow, the detection pa
 import numpy as np
 
 from reciprocity.beliefs.farrell_maps import CELLS, farrell_maps
-from reciprocity.kinds.filament import filament_params
+from reciprocity.wiring.filament import filament_params
 from reciprocity.scenarios import load_scenario
 from reciprocity.worlds.filament_figures import farrell_record
 

@@ -3,7 +3,7 @@ vehicle measured, the plume snapshots, the uniform flow of eq. (18), reproducibi
 
 import numpy as np
 
-from reciprocity.kinds.filament import filament_params
+from reciprocity.wiring.filament import filament_params
 from reciprocity.scenarios import load_scenario
 from reciprocity.worlds.filament import ARROWS
 from reciprocity.worlds.filament_figures import (DETECT_AFTER, UNIFORM_SECONDS, VEHICLE_SECONDS, farrell_record,

@@ -193,7 +193,7 @@ def test_most_likely_odour_path_under_the_uniform_flow_of_eq_18():
 
 
 def test_farrell_figures_are_written(tmp_path):
-    from reciprocity.kinds.filament import filament_params
+    from reciprocity.wiring.filament import filament_params
     from reciprocity.scenarios import load_scenario
     from reciprocity.viz.hmm import farrell_figures
     from reciprocity.worlds.filament_figures import farrell_record

@@ -14,7 +14,7 @@ from reciprocity.observations import Observation
 from reciprocity.scenarios import load_scenario
 from reciprocity.models.plume import PlumeParams, plume_length, plume_rate
 from reciprocity.worlds.plume import PlumeWorld
-from reciprocity.kinds.plume import otto_initial_hit_probabilities, otto_max_hits
+from reciprocity.wiring.plume import otto_initial_hit_probabilities, otto_max_hits
 
 from plume_beliefs import hand_built
 

@@ -39,7 +39,7 @@ def figures(directory: Path, spec: CampaignSpec) -> list[Path]:
     -------
     list of Path
     """
-    from ...kinds.filament import filament_params
+    from ...wiring.filament import filament_params
     from ...scenarios import load_scenario
     from ...viz.hmm import farrell_figures, plot_search
     from ...worlds.filament_figures import farrell_record
