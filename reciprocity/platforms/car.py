@@ -24,6 +24,7 @@ manoeuvres (:mod:`~reciprocity.platforms.car_gradient`).
 
 from __future__ import annotations
 
+from collections import deque
 from dataclasses import asdict, dataclass, fields
 
 import numpy as np
@@ -41,7 +42,7 @@ from ..validation import Bound, check_bounds
 from .base import Platform
 from .car_gradient import GradientManoeuvre
 from .car_maps import SCAN_EVERY, SWEEP_MARGIN, WallMaps, _same_walls  # noqa: F401 (SWEEP_MARGIN: by its old path)
-from .car_steering import CUSP_SLACK, Steering
+from .car_steering import CUSP_SLACK, TRAIL_TICKS, Steering
 from .lidar import Lidar
 
 __all__ = ["CAR_KEYS", "CarPlatform", "DrivingOptions", "PLANNERS", "check_car_options", "make_car_platform"]
@@ -204,6 +205,10 @@ class CarPlatform(WallMaps, Steering, GradientManoeuvre, Platform):
         #: per kind of walls: the map and its planner (on an unknown map)
         self._maps = {kind: (self.arena, getattr(self, "planner", None)) for kind in ("believed", "scanned")}
         self._swept: list[np.ndarray] = []
+        #: (estimated pose after the tick, steering, gear) of the latest ticks: the way back
+        #: (:meth:`~reciprocity.platforms.car_steering.Steering._retrace`)
+        self._trail: deque = deque(maxlen=TRAIL_TICKS)
+        self._retracing = False
         self._noted = None
         self.scanned_plans = 0
         self._scans: list[Observation] = []
@@ -220,6 +225,7 @@ class CarPlatform(WallMaps, Steering, GradientManoeuvre, Platform):
         self._collisions_seen = 0
         self._log = self._new_log()
         self._swept, self._noted, self.scanned_plans = [], None, 0
+        self._trail.clear()
         self.testbed.take_log()
 
     @property
@@ -355,6 +361,8 @@ class CarPlatform(WallMaps, Steering, GradientManoeuvre, Platform):
         est = self.testbed.tick(steer, direction)
         if self.grid is not None:
             self._swept.append(est)
+        if not self._retracing:
+            self._trail.append((est.copy(), float(steer), int(direction)))
         return est
 
     def _ticks_for(self, distance: float) -> int:
@@ -405,7 +413,7 @@ class CarPlatform(WallMaps, Steering, GradientManoeuvre, Platform):
                     est = self._virtual(vf, tb.estimate)
                     gear_at = self._replan(vf, est)
                 if gear_at is None:
-                    if not self._unstick(vf):
+                    if not (self._unstick(vf) or self._retrace(vf)):
                         self._event("lost the value function: measuring where the car stands")
                         break
                     est = self._virtual(vf, tb.estimate)

@@ -38,8 +38,9 @@ class WallMaps:
         """The value function the car drives to `target` with, from its pose: on the
         believed walls, or on an unknown map, when they shut the target out, on the scanned
         walls (the map it then drives on). Drift into a wall's clearance band is backed
-        out of (:meth:`_unstick`) only when no map has a path from the pose itself.
-        UnreachableTarget when no map has a path."""
+        out of (:meth:`_unstick`) only when no map has a path from the pose itself, and
+        the car drives back the way it came (:meth:`_retrace`) only when no short move
+        gives one. UnreachableTarget when no map has a path."""
         candidates, failure = [], None
         for walls in ("believed", "scanned") if self.grid is not None else ("believed",):
             self._plan_on(walls)
@@ -60,6 +61,10 @@ class WallMaps:
                 f"target ({target[0]:.1f}, {target[1]:.1f}) cm cannot be reached from the car's "
                 f"pose ({est[0]:.1f}, {est[1]:.1f}): it is enclosed, or behind a gap narrower "
                 f"than twice the clearance of {self._clearance():g} cm"))
+        for walls, vf in candidates:          # the way back: where the car came from, φ may be finite
+            self._plan_on(walls)
+            if self._retrace(vf):
+                return self._driving_on(walls, vf)
         raise failure
 
     def _solve(self, target: np.ndarray):

@@ -34,6 +34,17 @@ BODY_SIDE_SAMPLES = (0.0, 0.25, 0.5, 0.75)
 #: Six bang-bang actions (steer, direction): left / straight / right x forward / reverse.
 ACTIONS = tuple((u, v) for v in (1, -1) for u in (1, 0, -1))
 
+#: Ticks of the car's own trail kept for the way back (at 30 Hz, about a minute of driving).
+TRAIL_TICKS = 2000
+#: The way back goes at most this far along the trail (cm).
+RETRACE_MAX = 400.0
+#: Pure pursuit of the way back: the point tracked lies this far ahead along it (cm), and
+#: the car gives up when it strays this far from it (cm).
+RETRACE_LOOKAHEAD, RETRACE_STRAY = 3.0, 4.0
+#: Stretches of the trail shorter than this (cm) are not driven back (a manoeuvre's jiggle),
+#: and a stretch is driven back once the car is nearest to its last RETRACE_END cm.
+RETRACE_SKIP, RETRACE_END = 3.0, 1.0
+
 
 class Steering:
     """Steering by the value function, with the band and body guards (a mixin of
@@ -153,6 +164,76 @@ class Steering:
         normal = np.array([d[0] - d[1], d[2] - d[3]])
         size = float(np.hypot(*normal))
         return normal / size if size > 0 else None
+
+    def _retrace(self, vf) -> bool:
+        """No path from the pose, nor from a short move (:meth:`_unstick`): drive back the
+        way the car came, along its own trail, to the newest pose of it at most RETRACE_MAX
+        cm back from which φ is finite (a gap the believed walls closed behind the car, a
+        dead end too narrow to turn in: the car has been there, so the way back is open).
+        Each stretch driven in one gear is tracked back in the other (:meth:`_track_back`).
+        False when no pose of the trail has a finite φ, or the car ends where neither it
+        nor a short move has."""
+        trail = self._trail
+        if len(trail) < 2:
+            return False
+        poses = np.array([p for p, _, _ in trail])
+        gears = np.array([g for _, _, g in trail])
+        steps = np.hypot(*np.diff(poses[:, :2], axis=0).T)
+        back = np.append(np.cumsum(steps[::-1])[::-1], 0.0)      # cm from each pose to the newest
+        phi = np.asarray(vf(poses[:, 0], poses[:, 1], poses[:, 2]), dtype=float).ravel()
+        ok = np.isfinite(phi) & (back > 0) & (back <= RETRACE_MAX)
+        if not ok.any():
+            return False
+        i = int(np.flatnonzero(ok)[-1])
+        self._event(f"retrace: back {back[i]:.0f} cm along the way the car came")
+        self._retracing, back_home = True, True
+        try:
+            b = len(poses) - 1
+            while b > i:                  # ticks a..b were driven in one gear, from pose a - 1 to pose b
+                a = b
+                while a - 1 > i and gears[a - 1] == gears[b]:
+                    a -= 1
+                # a stretch shorter than RETRACE_SKIP (the jiggle of a manoeuvre) is not driven again
+                if back[a - 1] - back[b] >= RETRACE_SKIP and \
+                        not self._track_back(poses[a - 1:b + 1][::-1], -int(gears[b])):
+                    back_home = False
+                    break
+                b = a - 1
+        finally:
+            self._retracing = False
+            if back_home:
+                while len(trail) > i + 1:
+                    trail.pop()
+            else:                         # the car is off its trail: it is no way back any more
+                trail.clear()
+        return self._unstick(vf)
+
+    def _track_back(self, waypoints: np.ndarray, gear: int) -> bool:
+        """Drive in `gear` along `waypoints` (m, 3) from near the first to the last, by pure
+        pursuit of a point RETRACE_LOOKAHEAD cm ahead along them; False when the car strays
+        more than RETRACE_STRAY cm from them or the stretch takes twice its length."""
+        tb = self.testbed
+        xy = waypoints[:, :2]
+        s = np.append(0.0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T)))
+        step = tb.spec.speed * tb.period
+        k, driven = 0, 0.0
+        while True:
+            est = tb.estimate
+            window = slice(k, min(len(xy), k + 40))
+            k += int(np.argmin(np.hypot(*(xy[window] - est[:2]).T)))
+            near = float(np.hypot(*(xy[k] - est[:2])))
+            if near > RETRACE_STRAY or driven > 2.0 * s[-1] + 10.0:
+                self._event(f"retrace: strayed {near:.1f} cm from the way back")
+                return False
+            if s[-1] - s[k] <= RETRACE_END:         # the nearest point is at the end: back there
+                return True
+            goal = xy[min(int(np.searchsorted(s, s[k] + RETRACE_LOOKAHEAD)), len(xy) - 1)]
+            dx, dy = goal - est[:2]
+            c, sn = np.cos(est[2]), np.sin(est[2])
+            lateral, dist2 = -sn * dx + c * dy, dx * dx + dy * dy
+            u = float(np.clip(2.0 * tb.spec.rho * lateral / max(dist2, 1e-9), -1.0, 1.0))
+            self._tick(u, gear)
+            driven += step
 
     def _unstick(self, vf, attempts: int = 8) -> bool:
         """Drift brought the estimated pose where φ = inf (inside the clearance band, or

@@ -234,3 +234,36 @@ def test_drift_into_the_clearance_band_is_steered_out_of(platform, world, headin
     platform.testbed.estimate = np.array([30.0, 8.0, heading])
     assert platform._steer(vf, platform.testbed.estimate, gear) == steering(
         vf, platform.testbed.estimate, platform.dead_band, direction=gear)
+
+
+class _FiniteNear:
+    """A value function finite only within `radius` cm of `point` (any heading)."""
+
+    def __init__(self, point, radius):
+        self.point, self.radius = np.asarray(point, dtype=float), float(radius)
+
+    def __call__(self, x, y, th):
+        d = np.hypot(np.asarray(x, dtype=float) - self.point[0], np.asarray(y, dtype=float) - self.point[1])
+        return np.where(d < self.radius, d, np.inf)
+
+
+def test_the_car_drives_back_the_way_it_came_when_no_path_is_left(platform, world):
+    """With φ finite only where the car started, it retraces its own trail (a forward leg,
+    then a reversing turn) in the other gears, closed-loop, back to the start; without
+    such a pose on its trail it does not move."""
+    platform.reset([10.0, 10.0, 0.0], world, np.random.default_rng(0))
+    for _ in range(75):
+        platform._tick(0.0, 1)                         # about 20 cm east
+    for _ in range(45):
+        platform._tick(0.6, -1)                        # reversing while turning
+    there = platform.testbed.estimate.copy()
+    assert np.hypot(*(there[:2] - (10.0, 10.0))) > 10.0
+    assert not platform._retrace(_FiniteNear((50.0, 50.0), 2.0))          # nowhere on the trail
+    np.testing.assert_array_equal(platform.testbed.estimate, there)
+    home = _FiniteNear((10.0, 10.0), 2.0)
+    assert platform._retrace(home)
+    assert np.hypot(*(platform.testbed.estimate[:2] - (10.0, 10.0))) < 2.0
+    assert not platform.testbed.car.collisions
+    assert any(e["text"].startswith("retrace: back") for e in platform._log["events"])
+    # the trail now ends at the pose it went back to, the newest with a finite φ
+    assert np.isfinite(home(*platform._trail[-1][0])) and len(platform._trail) < 20
