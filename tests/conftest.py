@@ -13,6 +13,25 @@ def _pixels_near(path, rgb, tol: int = 40) -> int:
     return int(np.all(np.abs(img.astype(int) - bgr) <= tol, axis=2).sum())
 
 
+def _video_frames(path) -> list:
+    """Every frame (BGR) of the video at `path`, as OpenCV decodes it."""
+    cap = cv2.VideoCapture(str(path))
+    frames = []
+    while True:
+        ok, frame = cap.read()
+        if not ok:
+            break
+        frames.append(frame)
+    cap.release()
+    return frames
+
+
+@pytest.fixture
+def video_frames():
+    """``video_frames(path)``: the frames of a video, to count and compare them."""
+    return _video_frames
+
+
 @pytest.fixture(scope="session", autouse=True)
 def _private_cache(tmp_path_factory):
     """Tests keep meshes in a cache of their own, never the user's."""

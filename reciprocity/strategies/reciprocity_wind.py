@@ -170,6 +170,55 @@ class ReachableNodes:
         return self.space.points[idx[int(np.argmin(d))]].copy()
 
 
+class ModelFreeWind(ReachableNodes, Strategy):
+    """What the model-free baselines on ``flow`` worlds share (``surge-cast-wind``,
+    ``gradient-wind``): the nodes of a mesh of the arena they move between, the wind the
+    task states, and the settings below (validated here).
+
+    Parameters
+    ----------
+    step : float
+        Length of a move, cm.
+    hits : int
+        Count that makes a reading a detection.
+    declare : int
+        Readings or stations in a row without a higher hit rate than the best that stop
+        the search.
+    max_steps : int
+        Readings before the search stops at its cap.
+    h : float
+        Mesh size of the nodes it moves between, cm.
+    clearance : float
+        Points read keep this distance from the walls, cm.
+    """
+
+    worlds = ("flow",)
+    agents = 1
+
+    def __init__(self, *, step: float, hits: int, declare: int, max_steps: int, h: float, clearance: float):
+        super().__init__()
+        self.step = number(step, "step", 0.0, 1e3, lo_open=True, unit="cm")
+        self.hits = whole(hits, "hits", 1, 10 ** 9)
+        self.declare = whole(declare, "declare", 1, 100_000)
+        self.max_steps = whole(max_steps, "max_steps", 1, 100_000)
+        self.h = number(h, "h", 0.25, 20.0, unit="cm")
+        self.clearance = number(clearance, "clearance", 0.0, 100.0, unit="cm")
+
+    def start(self, ctx: SearchContext) -> None:
+        """The mesh, the stated wind (``downwind``, a unit vector) and the nodes reachable
+        from the start; stops UNREACHABLE when there are none."""
+        self._reset_state()
+        if ctx.world not in self.worlds:
+            raise SearchError(f"strategy {self.name!r} applies to flow worlds; got {ctx.world!r}")
+        self.space = mesh_space(ctx.nominal["arena"].without_scenario(), self.h)
+        self.downwind = told_wind_direction(ctx.nominal)
+        self._reachable = self.space.reachable_from(ctx.start[:2], self.clearance)
+
+    def _check_reachable(self) -> None:
+        if not self._reachable.any():
+            self.stop(StopReason.UNREACHABLE, "no observation point is reachable")
+
+
 @register
 class WindReciprocity(ReachableNodes, Strategy):
     """Reciprocity in wind: one adjoint solve per reading, the count likelihood, the

@@ -26,20 +26,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import SearchError
 from ..intents import Measure
 from ..outcome import StopReason
-from ..spaces import mesh_space
-from ..validation import number, whole
+from ..validation import number
 from . import register
-from .base import SearchContext, Status, Strategy
-from .reciprocity_wind import ReachableNodes, told_wind_direction
+from .base import SearchContext, Status
+from .reciprocity_wind import ModelFreeWind
 
 __all__ = ["SurgeCastWind"]
 
 
 @register
-class SurgeCastWind(ReachableNodes, Strategy):
+class SurgeCastWind(ModelFreeWind):
     """Surge upwind on a detection, cast across the wind when it is lost (see the module doc).
 
     Parameters
@@ -61,38 +59,24 @@ class SurgeCastWind(ReachableNodes, Strategy):
     """
 
     name = "surge-cast-wind"
-    worlds = ("flow",)
-    agents = 1
 
     def __init__(self, *, step: float = 6.0, cast: float = 6.0, hits: int = 1, declare: int = 12,
                  max_steps: int = 80, h: float = 2.0, clearance: float = 3.0):
-        super().__init__()
-        self.step = number(step, "step", 0.0, 1e3, lo_open=True, unit="cm")
+        super().__init__(step=step, hits=hits, declare=declare, max_steps=max_steps, h=h, clearance=clearance)
         self.cast = number(cast, "cast", 0.0, 1e3, lo_open=True, unit="cm")
-        self.hits = whole(hits, "hits", 1, 10 ** 9)
-        self.declare = whole(declare, "declare", 1, 100_000)
-        self.max_steps = whole(max_steps, "max_steps", 1, 100_000)
-        self.h = number(h, "h", 0.25, 20.0, unit="cm")
-        self.clearance = number(clearance, "clearance", 0.0, 100.0, unit="cm")
 
     def params(self) -> dict:
         return dict(step=self.step, cast=self.cast, hits=self.hits, declare=self.declare,
                     max_steps=self.max_steps, h=self.h, clearance=self.clearance)
 
     def start(self, ctx: SearchContext) -> None:
-        self._reset_state()
-        if ctx.world not in self.worlds:
-            raise SearchError(f"strategy {self.name!r} applies to flow worlds; got {ctx.world!r}")
-        self.space = mesh_space(ctx.nominal["arena"].without_scenario(), self.h)
-        self.downwind = told_wind_direction(ctx.nominal)
-        self._reachable = self.space.reachable_from(ctx.start[:2], self.clearance)
+        super().start(ctx)
         self._next = np.asarray(ctx.start[:2], dtype=float).copy()
         self._anchor = self._next.copy()         # the last detection (the start before any)
         self._detected = False
         self._leg, self._side = self.cast, 1.0
         self._best, self._best_rate, self._since_best = None, -np.inf, 0
-        if not self._reachable.any():
-            self.stop(StopReason.UNREACHABLE, "no observation point is reachable")
+        self._check_reachable()
 
     def propose(self) -> Measure | None:
         return None if self.done else Measure(self._next.copy())

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import dataclasses
 
-import cv2
 import numpy as np
 import pytest
 
@@ -34,25 +33,13 @@ def episodes(scenario):
             for name in ("reciprocity-wind", "surge-cast-wind")}
 
 
-def _frames(path):
-    cap = cv2.VideoCapture(str(path))
-    frames = []
-    while True:
-        ok, frame = cap.read()
-        if not ok:
-            break
-        frames.append(frame)
-    cap.release()
-    return frames
-
-
 @pytest.mark.parametrize("name", ["reciprocity-wind", "surge-cast-wind"])
-def test_frames_per_reading_and_the_layouts(name, episodes, scenario, tmp_path):
+def test_frames_per_reading_and_the_layouts(name, episodes, scenario, tmp_path, video_frames):
     episode = episodes[name]
     n = episode.summary["n_measurements"]
     path = write_count_video(tmp_path / "sub" / "search.mp4", episode, scenario.arena, fps=5, move_frames=2,
                              hold_frames=3, dpi=50)
-    frames = _frames(path)
+    frames = video_frames(path)
     assert n >= 2 and len(frames) == n * (2 + 3)
     h, w = frames[0].shape[:2]
     two_panels = name == "reciprocity-wind"                 # the right panel is the posterior
@@ -64,7 +51,7 @@ def test_frames_per_reading_and_the_layouts(name, episodes, scenario, tmp_path):
     assert change(5) > 4 * max(change(7), change(8))
 
 
-def test_the_command_line_writes_the_video_unless_told_not_to(tmp_path, capsys):
+def test_the_command_line_writes_the_video_unless_told_not_to(tmp_path, capsys, video_frames):
     (tmp_path / "wind.yaml").write_text(
         "world: flow\narena: {name: duct, boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]}\n"
         "inflow: [[[0, 0], [0, 40]]]\noutflow: [[[60, 0], [60, 40]]]\nspeed: 1\nD: 5\ntau: 60\n"
@@ -74,7 +61,7 @@ def test_the_command_line_writes_the_video_unless_told_not_to(tmp_path, capsys):
                      "--set", "max_steps=3", "--quiet", "--out", str(tmp_path / out), *flag])
         assert code in (0, 1)
     capsys.readouterr()
-    assert len(_frames(tmp_path / "with" / "gradient-wind.mp4")) == 3 * 6
+    assert len(video_frames(tmp_path / "with" / "gradient-wind.mp4")) == 3 * 6
     assert not list((tmp_path / "without").glob("*.mp4"))
 
 

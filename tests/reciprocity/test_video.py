@@ -87,18 +87,6 @@ class BumpImaging:
         return np.exp(-d2 / (200.0 / self.k))
 
 
-def _read(path):
-    cap = cv2.VideoCapture(str(path))
-    frames = []
-    while True:
-        ok, frame = cap.read()
-        if not ok:
-            break
-        frames.append(frame)
-    cap.release()
-    return frames
-
-
 def _expected_frames(end=4.0):
     return int(np.floor(end * FPS / SPEEDUP + 1e-9)) + 1 + FPS
 
@@ -112,11 +100,11 @@ def _car_pixel(frame_height, pose):
     return round(row) + header, round(col)
 
 
-def test_floor_video_has_the_frames_and_shows_the_car(tmp_path, arena, floor, episode):
+def test_floor_video_has_the_frames_and_shows_the_car(tmp_path, arena, floor, episode, video_frames):
     out = write_video(tmp_path / "run.mp4", episode, arena, floor, fps=FPS, speedup=SPEEDUP,
                       px_per_cm=PX)
     assert out == tmp_path / "run.mp4"
-    frames = _read(out)
+    frames = video_frames(out)
     assert len(frames) == _expected_frames()
     h, w = frames[0].shape[:2]
     assert w == 40 * PX and h % 2 == 0 and h > 30 * PX
@@ -130,11 +118,11 @@ def test_floor_video_has_the_frames_and_shows_the_car(tmp_path, arena, floor, ep
     assert abs(frames[0][r0, c0, 2].astype(int) - frames[0][r0, c0, 0]) > 100
 
 
-def test_imaging_panel_is_drawn_beside_the_floor(tmp_path, arena, floor, episode):
+def test_imaging_panel_is_drawn_beside_the_floor(tmp_path, arena, floor, episode, video_frames):
     imaging = BumpImaging()
     out = write_video(tmp_path / "run.mp4", episode, arena, floor, imaging=imaging, fps=FPS,
                       speedup=SPEEDUP, px_per_cm=PX)
-    frames = _read(out)
+    frames = video_frames(out)
     assert len(frames) == _expected_frames()
     h, w = frames[0].shape[:2]
     assert w == 2 * 40 * PX + GAP_PX and h % 2 == 0
@@ -163,14 +151,14 @@ def test_raster_matches_linear_interpolation(arena):
     assert np.abs(img.astype(int) - expected).max() <= 4  # rounding at .5 only
 
 
-def test_json_roundtripped_trace_gives_the_same_video_length(tmp_path, arena, floor, episode):
+def test_json_roundtripped_trace_gives_the_same_video_length(tmp_path, arena, floor, episode, video_frames):
     data = json.loads(episode.to_json())
     trace = data.pop("trace")
     assert isinstance(trace[0]["true_poses"], list)
     out = write_video(tmp_path / "json.mp4", Episode(data, trace), arena, floor,
                       imaging=BumpImaging(), fps=FPS, speedup=SPEEDUP, px_per_cm=PX,
                       progress=True)
-    assert len(_read(out)) == _expected_frames()
+    assert len(video_frames(out)) == _expected_frames()
 
 
 def test_bad_inputs_raise(tmp_path, arena, floor, episode):
@@ -190,7 +178,8 @@ def test_bad_inputs_raise(tmp_path, arena, floor, episode):
         write_video(tmp_path / "taken.mp4", episode, arena, floor)
 
 
-def test_the_walls_the_car_plans_on_are_drawn_from_the_time_they_became_current(tmp_path, arena, floor, episode):
+def test_the_walls_the_car_plans_on_are_drawn_from_the_time_they_became_current(tmp_path, arena, floor, episode,
+                                                                                 video_frames):
     """An unknown map: the trace's ``maps`` (believed walls from 1 s, scanned walls from
     3 s) are drawn over the floor from their time on; the true walls stay as they were."""
     believed = [[2.0, 20.0], [10.0, 20.0], [10.0, 28.0], [2.0, 28.0]]
@@ -200,7 +189,7 @@ def test_the_walls_the_car_plans_on_are_drawn_from_the_time_they_became_current(
     trace[1]["maps"] = [{"time": 3.0, "walls": "scanned", "obstacles": [scanned]}]
     mapped = Episode(episode.summary, trace)
     out = write_video(tmp_path / "map.mp4", mapped, arena, floor, fps=FPS, speedup=SPEEDUP, px_per_cm=PX)
-    frames = [f.astype(int) for f in _read(out)]
+    frames = [f.astype(int) for f in video_frames(out)]
     h = frames[0].shape[0]
     header = h - 30 * PX - h % 2
 
