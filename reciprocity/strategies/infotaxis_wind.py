@@ -31,7 +31,7 @@ from scipy.stats import poisson
 
 from ..validation import number, whole
 from . import register
-from .reciprocity_wind import BACKGROUND, D_READ, MAX_STEPS, FreeSpaceCounts, WindReciprocity
+from .reciprocity_wind import BACKGROUND, CREDIBLE_RADIUS, D_READ, MAX_STEPS, FreeSpaceCounts, WindReciprocity
 
 __all__ = ["WindInfotaxis", "FreeSpaceWindInfotaxis", "expected_entropy"]
 
@@ -97,9 +97,9 @@ class WindInfotaxis(WindReciprocity):
     name = "infotaxis-wind"
 
     def __init__(self, *, step: float = 8.0, moves: int = 12, support: int = 4096, h: float = 2.0,
-                 d: float = D_READ, reach: float = 12.0, credible_radius: float = 3.0, credible_mass: float = 0.95,
-                 max_steps: int = MAX_STEPS, clearance: float = 3.0, background: float = BACKGROUND,
-                 source_clearance: float | str = "task"):
+                 d: float = D_READ, reach: float = 12.0, credible_radius: float = CREDIBLE_RADIUS,
+                 credible_mass: float = 0.95, max_steps: int = MAX_STEPS, clearance: float = 3.0,
+                 background: float = BACKGROUND, source_clearance: float | str = "task"):
         super().__init__(h=h, d=d, reach=reach, credible_radius=credible_radius, credible_mass=credible_mass,
                          max_steps=max_steps, clearance=clearance, background=background,
                          source_clearance=source_clearance)

@@ -19,10 +19,11 @@ rate in the place of the Green's function:
   every step, and the point is chosen again after every reading;
 - **stop**: on contact (the plume world's FOUND), as every plume strategy.
 
-What the real strategy would need to run here unchanged: an ``ImagingMap`` that accepts any column provider (``nodes``, ``h``,
-``field(source) -> mean reading at every node``) instead of a ``GreenSolver``, a
-per-reading likelihood other than eq. (7) (Poisson counts), and a route from the chosen
-point to unit steps (a platform that walks the plan and reads on the way).
+What the real strategy would need to run here unchanged: an ``ImagingMap`` that accepts
+any column provider (``nodes``, ``h``, ``field(source) -> mean reading at every node``)
+instead of a ``GreenSolver``, a per-reading likelihood other than eq. (7) (Poisson
+counts), and a route from the chosen point to unit steps (a platform that walks the plan
+and reads on the way).
 
 Measured on ``song-100`` and ``otto-2d`` against the infotaxis family:
 ``benchmarks/plume_beyond.md``, section 3.

@@ -227,7 +227,8 @@ def count_steps_figure(episode: Episode, posterior, triangulation: Triangulation
         if zoomed:
             ax.set_xlim(est[0] - zoom, est[0] + zoom)
             ax.set_ylim(est[1] - zoom, est[1] + zoom)
-        ax.set_title(f"reading {k}: {counts[k - 1]:.0f} hits, est. ({est[0]:.0f}, {est[1]:.0f})"
+        ax.set_title(f"reading {k}: {counts[k - 1]:.0f} hit{'' if counts[k - 1] == 1 else 's'}, "
+                     f"est. ({est[0]:.0f}, {est[1]:.0f})"
                      + (f"\nzoom: posterior sd {spread:.1f} cm" if zoomed else ""), fontsize=9)
         ax.set_xlabel("x (cm)", fontsize=8)
         ax.set_ylabel("y (cm)", fontsize=8)
