@@ -1,7 +1,7 @@
 """MkDocs hooks: the benchmark reports as pages, and Sphinx roles of docstrings as code spans.
 
 The measured numbers live in ``benchmarks/*.md`` beside the scripts that produce them;
-:func:`on_files` publishes those reports (and the images they show) under
+:func:`on_files` publishes those reports (and the images and videos they link to) under
 ``benchmarks/`` of the site, so the pages link to them instead of copying numbers. The
 papers' tables, ours beside them and the verdicts, are pages of ``docs/papers/``.
 
@@ -22,14 +22,14 @@ from pathlib import Path
 from mkdocs.structure.files import File, InclusionLevel
 
 ROOT = Path(__file__).resolve().parents[1]
-_IMAGE = re.compile(r"\]\(([^)\s]+\.(?:png|svg|jpg))\)")
+_IMAGE = re.compile(r"\]\(([^)\s]+\.(?:png|svg|jpg|mp4))\)")  # images and videos
 
 _ROLE = re.compile(r":(?:py:)?(?:class|func|meth|mod|data|attr|exc|obj|const):<code>(.*?)</code>")
 _ANCHOR = re.compile(r'id="([A-Za-z_][\w.]*)"')
 
 
 def on_files(files, config):
-    """Add ``benchmarks/*.md`` and the images they link to as ``benchmarks/...`` of the site.
+    """Add ``benchmarks/*.md`` and the images and videos they link to as ``benchmarks/...`` of the site.
 
     They are not in the nav (docs/measurements.md lists them), so a new report builds
     without editing mkdocs.yml."""
