@@ -399,7 +399,7 @@ def _upstream(off_i, off_j, w, kk, rev_i, rev_j):
 
 
 def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j, pad, tol, max_sweeps, nthreads,
-                 two_way=False, progress=None):
+                 two_way=False, progress=None, consume_bc=False):
     """Iterate Gauss-Seidel sweeps until no value decreases by more than ``tol``.
 
     ``phi`` (ntheta, nx + 2 pad, ny + 2 pad) is updated in place; its border
@@ -432,7 +432,9 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     has not reached, and converged regions cost nothing in later sweeps.
     The turning minimum of each node is kept between computations and only
     the turning stencils whose feet decreased since are read again (see
-    :func:`_update_layer`).  Returns the number of sweeps done.
+    :func:`_update_layer`).  With ``consume_bc`` (a float64 C-contiguous ``bc`` the caller
+    will not read again) ``bc`` itself holds the turning minima, saving a copy.  Returns the
+    number of sweeps done.
     """
     nt = phi.shape[0]
     nx, ny = phi.shape[1] - 2 * pad, phi.shape[2] - 2 * pad
@@ -449,8 +451,7 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     else:
         work = phi
     changed = np.full((nt + nsnap, nbx, nby), NEVER, np.int64)  # stamp of the last change
-    k, i, j = np.nonzero(phi[:, pad:pad + nx, pad:pad + ny] < UNREACHABLE)
-    changed[k, i // BLOCK, j // BLOCK] = 0  # the initial data
+    _stamp_initial(phi, pad, changed)  # the initial data
     touched = changed.copy()  # stamp of the last decrease of any size
     computed = np.full((nt, nbx, nby), -1, np.int64)  # stamp of the last computation
     layer_changed = changed[:nt].max(axis=(1, 2))
@@ -458,7 +459,8 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     clock = 0
     flags = np.zeros((groups, nby), np.bool_)
     stale = np.zeros((groups, nby, kk.shape[1]), np.bool_)
-    tmin = np.array(bc, dtype=float)  # the turning minimum read so far, node by node (see _update_layer)
+    # the turning minimum read so far, node by node (see _update_layer); it starts as bc
+    tmin = bc if consume_bc else np.array(bc, dtype=float)
     args = (work, tmin, off_i, off_j, w, inv_self, kk)
     rest = (cost, adm, pad, qi, qj)
 
@@ -516,6 +518,51 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
     if work is not phi:
         phi[:] = work[:nt]
     return sweeps
+
+
+@njit(cache=True, nogil=True)
+def _stamp_initial(phi, pad, changed):
+    """Stamp 0 in ``changed`` (layer, block) for every block holding a node of ``phi`` below UNREACHABLE."""
+    nt = phi.shape[0]
+    nx, ny = phi.shape[1] - 2 * pad, phi.shape[2] - 2 * pad
+    for k in range(nt):
+        for i in range(nx):
+            for j in range(ny):
+                if phi[k, i + pad, j + pad] < UNREACHABLE:
+                    changed[k, i // BLOCK, j // BLOCK] = 0
+
+
+@njit(cache=True, nogil=True)
+def initial_values(bc, free, pad, out):
+    """Write into ``out`` the padded array the sweeps update: ``bc`` where finite at a free node, BIG elsewhere.
+
+    ``bc`` (ntheta, nx, ny); ``out`` (ntheta, nx + 2 pad, ny + 2 pad), written once
+    (the border and blocked nodes hold BIG, see :func:`solve_sweeps`).
+    """
+    nt, nx, ny = bc.shape
+    for k in range(nt):
+        out[k, :pad, :] = BIG
+        out[k, nx + pad:, :] = BIG
+        for i in range(nx):
+            row = out[k, i + pad]
+            row[:pad] = BIG
+            row[ny + pad:] = BIG
+            for j in range(ny):
+                value = bc[k, i, j]
+                row[j + pad] = value if np.isfinite(value) and free[i, j] else BIG
+
+
+@njit(cache=True, nogil=True)
+def final_values(phi, pad, out):
+    """Write into ``out`` (ntheta, nx, ny) the unpadded φ of the sweeps' array, +inf where it is at
+    least UNREACHABLE."""
+    nt = phi.shape[0]
+    nx, ny = phi.shape[1] - 2 * pad, phi.shape[2] - 2 * pad
+    for k in range(nt):
+        for i in range(nx):
+            for j in range(ny):
+                value = phi[k, i + pad, j + pad]
+                out[k, i, j] = INF if value >= UNREACHABLE else value
 
 
 @njit(cache=True, nogil=True)

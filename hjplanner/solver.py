@@ -358,30 +358,39 @@ def solve_in(ws: Workspace, target, *, tol: float | None = None, progress=None) 
     bc, r0 = _boundary_data(ws, (tx, ty), tol)
     if not np.isfinite(bc).any():
         raise PlanningError(f"no grid node reaches the target within tol={tol:g}; increase tol or refine h")
-    phi, sweeps = solve_on_grid(ws, bc, progress)
+    phi, sweeps = solve_on_grid(ws, bc, progress, consume_bc=True)
     meta = dict(domain=ws.geometry["name"], target=[tx, ty], rho=ws.rho, h=grid.h, ntheta=grid.ntheta,
                 clearance=ws.clearance, tol=tol, reverse=ws.reverse, local_radius=r0, sweeps=int(sweeps),
                 solve_time_s=time.perf_counter() - t0, options=ws.options.as_dict())
     return ValueFunction(phi, grid, ws.free, ws.distance, meta, ws.geometry)
 
 
-def solve_on_grid(ws: Workspace, bc: np.ndarray, progress=None) -> tuple[np.ndarray, int]:
+def solve_on_grid(ws: Workspace, bc: np.ndarray, progress=None, *,
+                  consume_bc: bool = False) -> tuple[np.ndarray, int]:
     """Fixed point of the scheme for boundary data ``bc`` (ntheta, nx, ny), +inf off the target set.
 
     ``progress(sweeps, blocks_recomputed, blocks)`` is called after each sweep, if given.
+    With ``consume_bc`` the sweeps use ``bc``'s memory as their scratch (its contents are
+    then undefined): :func:`solve_in` builds ``bc`` for this call alone.
 
     Returns φ (ntheta, nx, ny), +inf where unreachable, and the number of sweeps.
     """
     grid, st = ws.grid, ws.stencils
     pad = st["pad"]
-    phi = np.full((grid.ntheta, grid.nx + 2 * pad, grid.ny + 2 * pad), _sweep.BIG)
-    phi[:, pad:-pad, pad:-pad] = np.where(np.isfinite(bc) & ws.free, bc, _sweep.BIG)
+    bc = np.ascontiguousarray(bc, dtype=float)
+    # one pass each way over the 3-D arrays, rather than numpy's temporaries (a cold
+    # solve pays for every page it touches)
+    # (numpy allocates them: it asks the kernel for huge pages, numba's allocator does not)
+    phi = np.empty((grid.ntheta, grid.nx + 2 * pad, grid.ny + 2 * pad))
+    _sweep.initial_values(bc, ws.free, pad, phi)
     sweeps = _sweep.solve_sweeps(
         phi, bc, st["off_i"], st["off_j"], st["w"], st["inv_self"], st["kk"], st["cost"], st["adm"], st["rev_i"],
         st["rev_j"], pad, ws.options.sweep_tol * grid.h, ws.options.max_sweeps, ws.options.threads or 1, ws.reverse,
-        progress)
-    phi = np.ascontiguousarray(phi[:, pad:-pad, pad:-pad])
-    phi[phi >= _sweep.UNREACHABLE] = np.inf
+        progress, consume_bc=consume_bc)
+    # the unpadded result goes into bc's memory when the sweeps consumed it (their scratch)
+    out = bc if consume_bc else np.empty(bc.shape)
+    _sweep.final_values(phi, pad, out)
+    phi = out
     if sweeps >= ws.options.max_sweeps:
         warnings.warn(f"hjplanner.solve stopped after max_sweeps={sweeps} sweeps before convergence",
                       RuntimeWarning, stacklevel=3)
