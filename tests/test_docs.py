@@ -138,6 +138,11 @@ def test_every_block_of_the_docs_runs_in_order(doc, tmp_path, monkeypatch):
     import matplotlib
     matplotlib.use("Agg")
     monkeypatch.chdir(tmp_path)
+    # the examples register world kinds and strategies in this process: drop them after,
+    # so that later tests (tests/test_contract.py) see the built-in ones only
+    from reciprocity.scenarios import WORLD_KINDS
+    from reciprocity.strategies import STRATEGIES
+    kinds_before, strategies_before = set(WORLD_KINDS), set(STRATEGIES)
     namespace: dict = {"__name__": "__readme__"}
     ran = 0
     for lang, text, line in blocks(doc):
@@ -157,6 +162,10 @@ def test_every_block_of_the_docs_runs_in_order(doc, tmp_path, monkeypatch):
             pytest.fail(f"{where} fails: {type(exc).__name__}: {str(exc)[:3000]}")
         ran += 1
     runnable = sum(lang in ("yaml", "bash", "python") for lang, _, _ in blocks(doc))
+    for name in set(WORLD_KINDS) - kinds_before:
+        del WORLD_KINDS[name]
+    for name in set(STRATEGIES) - strategies_before:
+        del STRATEGIES[name]
     assert ran == runnable
 
 
