@@ -100,7 +100,8 @@ class WindInfotaxis(WindReciprocity):
                  d: float = D_READ, reach: float = 12.0, credible_radius: float = CREDIBLE_RADIUS,
                  credible_mass: float = 0.95, max_steps: int = MAX_STEPS, clearance: float = 3.0,
                  background: float = BACKGROUND, source_clearance: float | str = "task"):
-        super().__init__(h=h, d=d, reach=reach, credible_radius=credible_radius, credible_mass=credible_mass,
+        # the jump when no move is left stays the reciprocity search's "axis" rule
+        super().__init__(rule="axis", h=h, d=d, reach=reach, credible_radius=credible_radius, credible_mass=credible_mass,
                          max_steps=max_steps, clearance=clearance, background=background,
                          source_clearance=source_clearance)
         self.step = number(step, "step", 0.0, 1e3, lo_open=True, unit="cm")

@@ -16,14 +16,22 @@ Algorithm 1 of Landa et al. with its Gaussian map replaced by the count likeliho
   likelihood of every count, over (node, release rate), the release rate integrated out
   over a log-uniform prior a decade either side of the stated one, as the Poisson
   search integrates out an unknown strength;
-- **next point**: the Poisson search's ``"axis"`` rule carried over unchanged (it takes
-  any belief over mesh nodes), with a smaller ``d`` (:data:`D_READ`): the reachable
-  node, at least ``d`` from every point read,
-  with the most belief within ``reach``
-  (:func:`~reciprocity.strategies.imaging_search.next_point.mass_within_reach`); once the belief is
-  narrower than ``reach``, the node on its major axis beyond it
-  (:func:`~reciprocity.strategies.imaging_search.next_point.axis_point`). It does not know the wind:
-  an isotropic reach stands for the adjoint's footprint, which stretches upwind;
+- **next point** (``rule="info"``, the default): the reachable node, at least ``d``
+  (:data:`D_READ`) from every point read, whose count is expected to tell most about the
+  source's node: the mutual information of the count with the node over ``samples``
+  (node, release rate) pairs drawn from the posterior
+  (:func:`~reciprocity.strategies.count_information.count_information`). By reciprocity one
+  *forward* solve per sampled node gives its predicted count at every candidate at once
+  (:meth:`ArenaCounts.from_sources`; kept for the rest of the search), so the rule sees the
+  wind and the walls. The information is summed exactly at the ``shortlist`` candidates
+  where the pairs' predicted counts differ most in units of their Poisson noise (the
+  spread of ``2 sqrt(count)``). ``rule="axis"`` is the Poisson search's rule carried over
+  unchanged (it takes any belief over mesh nodes): the node with the most belief within
+  ``reach`` (:func:`~reciprocity.strategies.imaging_search.next_point.mass_within_reach`);
+  once the belief is narrower than ``reach``, the node on its major axis beyond it
+  (:func:`~reciprocity.strategies.imaging_search.next_point.axis_point`). It does not know
+  the wind: an isotropic reach stands for the adjoint's footprint, which stretches upwind.
+  On the benchmark draws the ``"info"`` rule needs fewer readings (``benchmarks/wind.md``).
 - **stop**: the Poisson search's credible rule, CONVERGED once ``credible_mass`` of the
   belief lies within ``credible_radius`` of the estimate (the posterior mean near the
   most probable node); STEP_CAP after ``max_steps`` readings. The radius is 4 cm
@@ -50,6 +58,7 @@ from ..spaces import mesh_space
 from ..validation import number, whole
 from . import register
 from .base import SearchContext, Status, Strategy
+from .count_information import count_information, systematic_sample
 from .imaging_search.next_point import axis_point, mass_within_reach
 
 __all__ = ["ArenaCounts", "FreeSpaceCounts", "WindReciprocity", "FreeSpaceWind", "ReachableNodes", "ModelFreeWind",
@@ -69,6 +78,8 @@ BACKGROUND = 0.01
 #: 18 of 240 benchmark draws reached the 80-reading cap, 13 of them with the estimate
 #: within 5 cm; with 4 cm, 7 (``benchmarks/wind.md``, measured on held-out draws too).
 CREDIBLE_RADIUS = 4.0
+#: The next-point rules of :class:`WindReciprocity`.
+NEXT_POINT_RULES = ("info", "axis")
 #: Largest ``source_clearance`` and ``clearance``, cm.
 MAX_CLEARANCE = 100.0
 
@@ -113,11 +124,21 @@ class ArenaCounts:
             raise SearchError("the wind model's mesh differs from the search space's; give both the same h")
         # the source rows of every candidate, built once per search: adjoint dofs -> readings
         self._rows = self.solver.source_matrix(self.space.points)
+        self._probe = None
 
     def rates(self, z: np.ndarray) -> np.ndarray:
         """``k c(z; x)`` at every node ``x`` of :attr:`space`: one adjoint solve (wind reversed)."""
         v = self.solver.adjoints(np.asarray(z, dtype=float)[None])[:, 0]
         return self.physics.detector * (self._rows @ v)
+
+    def from_sources(self, nodes: np.ndarray) -> np.ndarray:
+        """``k c(z; x)`` (n_nodes, m) at every node ``z`` of :attr:`space` from unit sources at the
+        nodes ``x`` of index `nodes` (m,): one forward solve per source. Column ``j`` holds
+        what :meth:`rates` gives at node ``nodes[j]`` for every reading node (reciprocity)."""
+        if self._probe is None:
+            self._probe, _ = self.solver.space.probe_matrix(self.space.points)
+        u = self.solver.forwards(self.space.points[np.asarray(nodes, dtype=int)])
+        return self.physics.detector * np.asarray(self._probe @ u)
 
 
 class FreeSpaceCounts:
@@ -149,6 +170,24 @@ class FreeSpaceCounts:
         x = np.where(d[:, None] < self.near, z + self.near * direction, self.space.points)
         # the reading at z from a source at x: the wind reversed, read from z
         c = free_space_advection_green(x, z, -self.wind, self.physics.D, self.physics.tau)
+        return self.physics.detector * c
+
+    def from_sources(self, nodes: np.ndarray) -> np.ndarray:
+        """:meth:`rates` at every node as reading point, for the sources at nodes `nodes`
+        (m,): shape (n_nodes, m), as :meth:`ArenaCounts.from_sources`."""
+        return np.column_stack([self._column(self.space.points[j]) for j in np.asarray(nodes, dtype=int)]) \
+            if len(nodes) else np.zeros((len(self.space.points), 0))
+
+    def _column(self, x: np.ndarray) -> np.ndarray:
+        """``rates(z)`` at source `x` for every node ``z``: the same points and singular cut
+        as :meth:`rates`, with the function's translation invariance."""
+        z = self.space.points
+        r = x[None, :] - z
+        d = np.hypot(r[:, 0], r[:, 1])
+        upwind = -self.wind / np.hypot(*self.wind)
+        direction = np.where(d[:, None] > 0, r / np.maximum(d, 1e-300)[:, None], upwind[None])
+        xs = np.where(d[:, None] < self.near, z + self.near * direction, x[None, :])
+        c = free_space_advection_green(xs - z, np.zeros(2), -self.wind, self.physics.D, self.physics.tau)
         return self.physics.detector * c
 
 
@@ -230,7 +269,7 @@ class ModelFreeWind(ReachableNodes, Strategy):
 @register
 class WindReciprocity(ReachableNodes, Strategy):
     """Reciprocity in wind: one adjoint solve per reading, the count likelihood, the
-    ``"axis"`` rule and the credible stop (see the module doc).
+    ``"info"`` next-point rule and the credible stop (see the module doc).
 
     Parameters
     ----------
@@ -254,6 +293,15 @@ class WindReciprocity(ReachableNodes, Strategy):
         The prior keeps every possible source at least this far (cm, less one mesh size)
         from the walls: ``"task"`` (default) takes the task's public ``source_clearance``
         (0, anywhere, when the task says nothing), as the Poisson search does.
+    rule : {"info", "axis"}
+        The next point: ``"info"`` (default), the admissible node whose count is expected
+        to tell most about the source's node
+        (:func:`~reciprocity.strategies.count_information.count_information`, over `samples`
+        posterior pairs, scored exactly at the `shortlist` nodes where the pairs' predicted
+        counts differ most in units of their Poisson noise); ``"axis"``, the Poisson
+        search's rule (module doc).
+    samples, shortlist : int
+        Posterior (node, rate) pairs, and candidate nodes scored exactly, of the ``"info"`` rule.
     """
 
     name = "reciprocity-wind"
@@ -264,8 +312,14 @@ class WindReciprocity(ReachableNodes, Strategy):
 
     def __init__(self, *, h: float = 2.0, d: float = D_READ, reach: float = 12.0,
                  credible_radius: float = CREDIBLE_RADIUS, credible_mass: float = 0.95, max_steps: int = MAX_STEPS, clearance: float = 3.0,
-                 background: float = BACKGROUND, source_clearance: float | str = "task"):
+                 background: float = BACKGROUND, source_clearance: float | str = "task", rule: str = "info",
+                 samples: int = 256, shortlist: int = 64):
         super().__init__()
+        if rule not in NEXT_POINT_RULES:
+            raise SearchError(f"rule must be one of {', '.join(NEXT_POINT_RULES)}; got {rule!r}")
+        self.rule = rule
+        self.samples = whole(samples, "samples", 8, 100_000)
+        self.shortlist = whole(shortlist, "shortlist", 1, 100_000)
         self.h = number(h, "h", 0.25, 20.0, unit="cm")
         self.d = number(d, "d", 0.0, 1e3, lo_open=True, unit="cm")
         self.reach = number(reach, "reach", 0.0, 1e3, lo_open=True, unit="cm")
@@ -281,10 +335,14 @@ class WindReciprocity(ReachableNodes, Strategy):
         return dict(h=self.h, d=self.d, reach=self.reach, credible_radius=self.credible_radius,
                     credible_mass=self.credible_mass, max_steps=self.max_steps, clearance=self.clearance,
                     background=self.background, source_clearance=self.source_clearance,
-                    source_clearance_used=getattr(self, "clearance_used", None))
+                    source_clearance_used=getattr(self, "clearance_used", None), rule=self.rule,
+                    samples=self.samples, shortlist=self.shortlist)
 
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
+        self._rng = ctx.rng
+        self._dwell = 1.0
+        self._columns: dict[int, np.ndarray] = {}       # the "info" rule's forward solves, by node
         if ctx.world not in self.worlds:
             raise SearchError(f"strategy {self.name!r} applies to flow worlds; got {ctx.world!r}")
         self.counts = self.model(ctx.nominal, self.h)
@@ -322,6 +380,7 @@ class WindReciprocity(ReachableNodes, Strategy):
     def observe(self, observations, intent, agent: int = 0) -> None:
         obs = observations[0]
         z = np.asarray(obs.position, dtype=float)
+        self._dwell = float(obs.dwell)
         self.belief.add(self.counts.rates(z), float(obs.value), float(obs.dwell))
         self.n_measurements += 1
         self.n_samples += 1
@@ -352,12 +411,34 @@ class WindReciprocity(ReachableNodes, Strategy):
             self.stop(StopReason.NO_TARGET, "no admissible observation point left")
             return
         w = self.belief.weights()
-        nxt = axis_point(self.space, w, allowed, self.reach, self.d)
+        nxt = self._info_point(idx) if self.rule == "info" else axis_point(self.space, w, allowed, self.reach, self.d)
         if nxt is None:
             score = mass_within_reach(self.space.points[idx], self.space.points, w, self.reach)
             nxt = self.space.points[idx[int(np.argmax(score))]]
         self._next = np.asarray(nxt, dtype=float).copy()
         self.status.extra["next"] = self._next.tolist()
+
+    def _info_point(self, idx: np.ndarray) -> np.ndarray:
+        """The ``"info"`` rule's point among the admissible nodes `idx` (see the class doc)."""
+        post = self.belief
+        logw = np.where(post.allowed[:, None], post.loglik, -np.inf) + np.log(post.areas)[:, None]
+        w = np.exp(logw - logw.max()).ravel()
+        pick = systematic_sample(w / w.sum(), self.samples, self._rng)
+        node, cell = np.divmod(pick, post.loglik.shape[1])
+        fresh = [j for j in np.unique(node) if j not in self._columns]
+        if fresh:
+            for j, column in zip(fresh, self.counts.from_sources(np.array(fresh)).T):
+                self._columns[int(j)] = np.maximum(column, 0.0)
+        per_unit = np.column_stack([self._columns[int(j)][idx] for j in node])        # (candidates, samples)
+        mean = (per_unit * post.rates[cell][None, :] + self.background) * self._dwell
+        # the shortlist: where the samples' counts differ most in units of Poisson noise
+        # (2 sqrt(count) has unit variance)
+        spread = np.std(2.0 * np.sqrt(mean), axis=1)
+        short = np.argsort(spread)[::-1][:self.shortlist]
+        info = count_information(mean[short], node)
+        best = short[int(np.argmax(info))]
+        self.status.extra["information"] = float(info.max())
+        return self.space.points[idx[best]]
 
 
 @register
