@@ -119,19 +119,22 @@ def _done(path: Path | None) -> dict:
 
 
 def _key(r: dict) -> tuple:
-    return (r["scenario"], r["speed"], r["strategy"], r["seed"], r["h"], json.dumps(r["set"], sort_keys=True))
+    team = (r["agents"],) if r.get("agents", 1) > 1 else ()
+    return (r["scenario"], r["speed"], r["strategy"], r["seed"], r["h"], json.dumps(r["set"], sort_keys=True)) + team
 
 
-def episode(sc, name: str, seed: int, h: float, extra: dict) -> dict:
-    """One episode on the seed's draw, as one results line."""
+def episode(sc, name: str, seed: int, h: float, extra: dict, agents: int = 1) -> dict:
+    """One episode on the seed's draw, as one results line (``agents`` observers, all
+    starting at the draw's start)."""
     draw = world_draw(sc, seed)
     t0 = time.perf_counter()
-    s = run(sc, name, seed=seed, params=dict(h=h, **extra), world=draw).summary
+    s = run(sc, name, seed=seed, params=dict(h=h, **extra), world=draw, agents=agents).summary
     wall = time.perf_counter() - t0
     source = np.asarray(draw["source"], dtype=float)
     return dict(scenario=sc.name, speed=float(sc.params["speed"]), strategy=name, seed=seed, h=h, set=extra,
                 success=bool(s["success"]), converged=bool(s["converged"]), stop=s["stop_reason"],
                 error=None if s["error"] is None else float(s["error"]), n_measurements=int(s["n_measurements"]),
+                steps=int(s["steps"]), **({"agents": agents} if agents > 1 else {}),
                 path_length=float(s["path_length"]), wall_s=wall, source=source.tolist(),
                 wall_distance=float(sc.arena.wall_distance(source[None])[0]), estimate=s["estimate"])
 
@@ -190,6 +193,7 @@ def main() -> None:
     ap.add_argument("--speeds", help="comma-separated inflow speeds, cm/s (default: the scenario's)")
     ap.add_argument("--results", type=Path, help="append every episode here as a JSON line; skip those in it")
     ap.add_argument("--near", type=float, default=10.0, help="wall distance of the split table, cm")
+    ap.add_argument("--agents", type=int, default=1, help="observers (a team strategy for more than one)")
     args = ap.parse_args()
     extra = {k: _value(v) for k, v in (s.split("=", 1) for s in args.set)}
     done = _done(args.results)
@@ -203,9 +207,10 @@ def main() -> None:
             sc = base.with_world({"speed": speed})
             for name in args.strategies.split(","):
                 for seed in range(args.seeds):
-                    key = (sc.name, speed, name, seed, args.h, json.dumps(extra, sort_keys=True))
+                    key = (sc.name, speed, name, seed, args.h, json.dumps(extra, sort_keys=True)) \
+                        + ((args.agents,) if args.agents > 1 else ())
                     if key not in done:
-                        done[key] = episode(sc, name, seed, args.h, extra)
+                        done[key] = episode(sc, name, seed, args.h, extra, args.agents)
                         if args.results:
                             with args.results.open("a") as fh:
                                 fh.write(json.dumps(done[key]) + "\n")

@@ -89,7 +89,9 @@ class WindFreeEnergy(WindInfotaxis):
         Temperature ``T = α tr(Σ)^β``, lengths in moves (the paper's 0.01, 1.4).
     gamma : float
         Exponent of the distance in the potential energy (the paper's 3).
-    step, moves, support, h, d, reach, credible_radius, credible_mass, max_steps, clearance, background, source_clearance
+    step, moves, support, h, d, reach
+        As :class:`~reciprocity.strategies.infotaxis_wind.WindInfotaxis`.
+    credible_radius, credible_mass, max_steps, clearance, background, source_clearance
         As :class:`~reciprocity.strategies.infotaxis_wind.WindInfotaxis`.
     """
 

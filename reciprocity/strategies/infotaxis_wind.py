@@ -101,9 +101,9 @@ class WindInfotaxis(WindReciprocity):
                  credible_mass: float = 0.95, max_steps: int = MAX_STEPS, clearance: float = 3.0,
                  background: float = BACKGROUND, source_clearance: float | str = "task"):
         # the jump when no move is left stays the reciprocity search's "axis" rule
-        super().__init__(rule="axis", h=h, d=d, reach=reach, credible_radius=credible_radius, credible_mass=credible_mass,
-                         max_steps=max_steps, clearance=clearance, background=background,
-                         source_clearance=source_clearance)
+        super().__init__(rule="axis", h=h, d=d, reach=reach, credible_radius=credible_radius,
+                         credible_mass=credible_mass, max_steps=max_steps, clearance=clearance,
+                         background=background, source_clearance=source_clearance)
         self.step = number(step, "step", 0.0, 1e3, lo_open=True, unit="cm")
         self.moves = whole(moves, "moves", 1, 360)
         self.support = whole(support, "support", 16, 10 ** 6)

@@ -61,8 +61,8 @@ from .base import SearchContext, Status, Strategy
 from .count_information import count_information, systematic_sample
 from .imaging_search.next_point import axis_point, mass_within_reach
 
-__all__ = ["ArenaCounts", "FreeSpaceCounts", "WindReciprocity", "FreeSpaceWind", "ReachableNodes", "ModelFreeWind",
-           "told_wind_direction", "CREDIBLE_RADIUS"]
+__all__ = ["ArenaCounts", "FreeSpaceCounts", "WindReciprocity", "TeamWindReciprocity", "FreeSpaceWind",
+           "ReachableNodes", "ModelFreeWind", "told_wind_direction", "CREDIBLE_RADIUS"]
 
 #: Default ``max_steps``: readings of one search.
 MAX_STEPS = 80
@@ -311,8 +311,9 @@ class WindReciprocity(ReachableNodes, Strategy):
     model = ArenaCounts
 
     def __init__(self, *, h: float = 2.0, d: float = D_READ, reach: float = 12.0,
-                 credible_radius: float = CREDIBLE_RADIUS, credible_mass: float = 0.95, max_steps: int = MAX_STEPS, clearance: float = 3.0,
-                 background: float = BACKGROUND, source_clearance: float | str = "task", rule: str = "info",
+                 credible_radius: float = CREDIBLE_RADIUS, credible_mass: float = 0.95, max_steps: int = MAX_STEPS,
+                 clearance: float = 3.0, background: float = BACKGROUND, source_clearance: float | str = "task",
+                 rule: str = "info",
                  samples: int = 256, shortlist: int = 64):
         super().__init__()
         if rule not in NEXT_POINT_RULES:
@@ -439,6 +440,103 @@ class WindReciprocity(ReachableNodes, Strategy):
         best = short[int(np.argmax(info))]
         self.status.extra["information"] = float(info.max())
         return self.space.points[idx[best]]
+
+
+@register
+class TeamWindReciprocity(WindReciprocity):
+    """Reciprocity in wind for a team: every observer's counts update one shared belief (the
+    multi-agent papers' full sharing), and each round every observer reads where the
+    next-point rule puts it.
+
+    The observers choose in turn, after the last count of a round: each takes the rule's
+    point among the nodes reachable from where it stands, at least ``d`` from every point
+    read and at least ``reach`` from the points its teammates chose this round (so that two
+    observers do not read the same plume twice). ``max_steps`` counts rounds; the stop is
+    the credible rule on the shared belief. Parameters as :class:`WindReciprocity`.
+    """
+
+    name = "team-reciprocity-wind"
+    agents = None
+
+    def start(self, ctx: SearchContext) -> None:
+        super().start(ctx)
+        starts = np.asarray(ctx.starts, dtype=float)[:, :2]
+        self._reach_of = [self.space.reachable_from(p, self.clearance) for p in starts]
+        self._reachable = np.logical_or.reduce(self._reach_of)
+        self._nexts = starts.copy()
+        self._waiting: set[int] = set()
+        self.rounds = 0
+        if not self._reachable.any():
+            self.stop(StopReason.UNREACHABLE, "no observation point is reachable")
+
+    def restrict(self, mask_of) -> None:
+        mask = mask_of(self.space.points)
+        if mask is not None:
+            self._reachable &= mask
+            self._reach_of = [r & mask for r in self._reach_of]
+
+    def propose(self) -> dict | None:
+        if self.done:
+            return None
+        self._waiting = set(range(len(self._nexts)))
+        return {a: Measure(p.copy()) for a, p in enumerate(self._nexts)}
+
+    def observe(self, observations, intent, agent: int = 0) -> None:
+        obs = observations[0]
+        z = np.asarray(obs.position, dtype=float)
+        self._dwell = float(obs.dwell)
+        self.belief.add(self.counts.rates(z), float(obs.value), float(obs.dwell))
+        self.n_measurements += 1
+        self.n_samples += 1
+        self._far &= self.space.separated(z[None], self.d)
+        self._nexts[agent] = z[:2]
+        self._end_of_turn(agent)
+
+    def reject(self, intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
+        if self._count_rejection(reason):
+            return
+        around = self.space.around(point, max(0.5 * self.d, self.h))
+        self._reach_of[agent] &= ~around
+        self._end_of_turn(agent)
+
+    def _end_of_turn(self, agent: int) -> None:
+        """After the last observer of a round: the stop, else every observer's next point."""
+        self._waiting.discard(agent)
+        if self._waiting or self.done:
+            return
+        self.rounds += 1
+        estimate = self.belief.estimate(self.credible_radius)
+        held = credible_mass(self.space.points, self.belief.weights(), estimate, self.credible_radius)
+        self.status = Status(estimate, None, extra=dict(credible=held, entropy=self.belief.entropy()))
+        if held >= self.credible_mass:
+            self.stop(StopReason.CONVERGED, f"{held:.3f} of the belief within {self.credible_radius:g} cm "
+                                            "of the estimate")
+            return
+        if self.rounds >= self.max_steps:
+            self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} rounds")
+            return
+        chosen: list[np.ndarray] = []
+        for a in range(len(self._nexts)):
+            allowed = self._reach_of[a] & self._far
+            for point in chosen:
+                allowed &= ~self.space.around(point, self.reach)
+            idx = np.flatnonzero(allowed)
+            if idx.size == 0:
+                idx = np.flatnonzero(self._reach_of[a] & self._far)
+            if idx.size == 0:
+                self.stop(StopReason.NO_TARGET, f"no admissible observation point left for observer {a}")
+                return
+            w = self.belief.weights()
+            mask = np.zeros(len(w), dtype=bool)
+            mask[idx] = True
+            nxt = self._info_point(idx) if self.rule == "info" else \
+                axis_point(self.space, w, mask, self.reach, self.d)
+            if nxt is None:
+                score = mass_within_reach(self.space.points[idx], self.space.points, w, self.reach)
+                nxt = self.space.points[idx[int(np.argmax(score))]]
+            self._nexts[a] = np.asarray(nxt, dtype=float)[:2]
+            chosen.append(self._nexts[a].copy())
+        self.status.extra["next"] = self._nexts.tolist()
 
 
 @register
