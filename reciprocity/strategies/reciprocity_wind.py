@@ -379,23 +379,32 @@ class WindReciprocity(ReachableNodes, Strategy):
         return None if self.done else Measure(self._next.copy())
 
     def observe(self, observations, intent, agent: int = 0) -> None:
-        obs = observations[0]
+        self._take_reading(observations[0])
+        if not self._credible_stop() and self.n_measurements >= self.max_steps:
+            self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} readings")
+        if not self.done:
+            self._choose_next()
+
+    def _take_reading(self, obs) -> np.ndarray:
+        """Condition the belief on one count; returns where it was read (cm)."""
         z = np.asarray(obs.position, dtype=float)
         self._dwell = float(obs.dwell)
         self.belief.add(self.counts.rates(z), float(obs.value), float(obs.dwell))
         self.n_measurements += 1
         self.n_samples += 1
         self._far &= self.space.separated(z[None], self.d)
+        return z
+
+    def _credible_stop(self) -> bool:
+        """The status from the belief; stop (CONVERGED, True) once ``credible_mass`` of it lies
+        within ``credible_radius`` of the estimate."""
         estimate = self.belief.estimate(self.credible_radius)
         held = credible_mass(self.space.points, self.belief.weights(), estimate, self.credible_radius)
         self.status = Status(estimate, None, extra=dict(credible=held, entropy=self.belief.entropy()))
         if held >= self.credible_mass:
             self.stop(StopReason.CONVERGED, f"{held:.3f} of the belief within {self.credible_radius:g} cm "
                                             "of the estimate")
-        elif self.n_measurements >= self.max_steps:
-            self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} readings")
-        else:
-            self._choose_next()
+        return self.done
 
     def reject(self, intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
         """Exclude the neighbourhood of an unreachable target and choose again."""
@@ -482,14 +491,7 @@ class TeamWindReciprocity(WindReciprocity):
         return {a: Measure(p.copy()) for a, p in enumerate(self._nexts)}
 
     def observe(self, observations, intent, agent: int = 0) -> None:
-        obs = observations[0]
-        z = np.asarray(obs.position, dtype=float)
-        self._dwell = float(obs.dwell)
-        self.belief.add(self.counts.rates(z), float(obs.value), float(obs.dwell))
-        self.n_measurements += 1
-        self.n_samples += 1
-        self._far &= self.space.separated(z[None], self.d)
-        self._nexts[agent] = z[:2]
+        self._nexts[agent] = self._take_reading(observations[0])[:2]
         self._end_of_turn(agent)
 
     def reject(self, intent, point: np.ndarray, reason: str, agent: int = 0) -> None:
@@ -505,12 +507,7 @@ class TeamWindReciprocity(WindReciprocity):
         if self._waiting or self.done:
             return
         self.rounds += 1
-        estimate = self.belief.estimate(self.credible_radius)
-        held = credible_mass(self.space.points, self.belief.weights(), estimate, self.credible_radius)
-        self.status = Status(estimate, None, extra=dict(credible=held, entropy=self.belief.entropy()))
-        if held >= self.credible_mass:
-            self.stop(StopReason.CONVERGED, f"{held:.3f} of the belief within {self.credible_radius:g} cm "
-                                            "of the estimate")
+        if self._credible_stop():
             return
         if self.rounds >= self.max_steps:
             self.stop(StopReason.STEP_CAP, f"max_steps = {self.max_steps} rounds")
