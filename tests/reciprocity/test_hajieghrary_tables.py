@@ -18,6 +18,10 @@ def test_fig1_sweeps_every_count_and_sharing_rule_and_prints_the_papers_one_numb
     assert every.keys() == variants.keys() and all(p["resample_below"] == EVERY_STEP for p in every.values())
     assert all(p["rejuvenate"] is True for p in
                (v.params for v in table.protocol("rejuvenated").spec(1).variants))
+    # the control: the every-step schedule with moves, one thing changed
+    both = {v.label: v.params for v in table.protocol("every-step-rejuvenated").spec(1).variants}
+    assert both.keys() == variants.keys()
+    assert all(p["resample_below"] == EVERY_STEP and p["rejuvenate"] is True for p in both.values())
 
 
 def test_fig1_rows_run_one_count():

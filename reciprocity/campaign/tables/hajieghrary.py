@@ -146,7 +146,12 @@ HAJIEGHRARY_FIG1 = register(PaperTable(
         "Protocol 'every-step': the paper's particle filter resampling after every reading "
         "(its eq. (6): each hypothesis 'survived the re-sampling procedure of the previous "
         "step'), particles never moved; the paper prints one number, no success at 1.8 and "
-        "1.9 × 10⁴ particles when the three share every event.")},
+        "1.9 × 10⁴ particles when the three share every event."),
+        "every-step-rejuvenated": (
+        _fig1_spec(True, EVERY_STEP),
+        "Protocol 'every-step-rejuvenated': the paper's every-step resampling with one "
+        "Metropolis-Hastings move per particle after each resampling: the control that changes "
+        "only the particle moves of the 'every-step' protocol.")},
 ))
 
 #: Numbers of Gaussian basis functions of ``hajieghrary-basis`` (the paper: 100 to 300).
