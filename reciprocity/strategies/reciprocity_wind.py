@@ -313,8 +313,7 @@ class WindReciprocity(ReachableNodes, Strategy):
     def __init__(self, *, h: float = 2.0, d: float = D_READ, reach: float = 12.0,
                  credible_radius: float = CREDIBLE_RADIUS, credible_mass: float = 0.95, max_steps: int = MAX_STEPS,
                  clearance: float = 3.0, background: float = BACKGROUND, source_clearance: float | str = "task",
-                 rule: str = "info",
-                 samples: int = 256, shortlist: int = 64):
+                 rule: str = "info", samples: int = 256, shortlist: int = 64):
         super().__init__()
         if rule not in NEXT_POINT_RULES:
             raise SearchError(f"rule must be one of {', '.join(NEXT_POINT_RULES)}; got {rule!r}")
@@ -420,13 +419,22 @@ class WindReciprocity(ReachableNodes, Strategy):
         if idx.size == 0:
             self.stop(StopReason.NO_TARGET, "no admissible observation point left")
             return
+        self._next = self._rule_point(idx)
+        self.status.extra["next"] = self._next.tolist()
+
+    def _rule_point(self, idx: np.ndarray) -> np.ndarray:
+        """The next-point rule's point (cm) among the admissible nodes `idx`; where the
+        ``"axis"`` rule has none, the node with the most belief within ``reach``."""
         w = self.belief.weights()
-        nxt = self._info_point(idx) if self.rule == "info" else axis_point(self.space, w, allowed, self.reach, self.d)
+        if self.rule == "info":
+            return np.asarray(self._info_point(idx), dtype=float).copy()
+        allowed = np.zeros(len(w), dtype=bool)
+        allowed[idx] = True
+        nxt = axis_point(self.space, w, allowed, self.reach, self.d)
         if nxt is None:
             score = mass_within_reach(self.space.points[idx], self.space.points, w, self.reach)
             nxt = self.space.points[idx[int(np.argmax(score))]]
-        self._next = np.asarray(nxt, dtype=float).copy()
-        self.status.extra["next"] = self._next.tolist()
+        return np.asarray(nxt, dtype=float).copy()
 
     def _info_point(self, idx: np.ndarray) -> np.ndarray:
         """The ``"info"`` rule's point among the admissible nodes `idx` (see the class doc)."""
@@ -435,11 +443,12 @@ class WindReciprocity(ReachableNodes, Strategy):
         w = np.exp(logw - logw.max()).ravel()
         pick = systematic_sample(w / w.sum(), self.samples, self._rng)
         node, cell = np.divmod(pick, post.loglik.shape[1])
-        fresh = [j for j in np.unique(node) if j not in self._columns]
+        fresh = [j for j in np.unique(node) if int(j) not in self._columns]
         if fresh:
             for j, column in zip(fresh, self.counts.from_sources(np.array(fresh)).T):
                 self._columns[int(j)] = np.maximum(column, 0.0)
-        per_unit = np.column_stack([self._columns[int(j)][idx] for j in node])        # (candidates, samples)
+        used, slot = np.unique(node, return_inverse=True)
+        per_unit = np.column_stack([self._columns[int(j)][idx] for j in used])[:, slot]   # (candidates, samples)
         mean = (per_unit * post.rates[cell][None, :] + self.background) * self._dwell
         # the shortlist: where the samples' counts differ most in units of Poisson noise
         # (2 sqrt(count) has unit variance)
@@ -523,15 +532,7 @@ class TeamWindReciprocity(WindReciprocity):
             if idx.size == 0:
                 self.stop(StopReason.NO_TARGET, f"no admissible observation point left for observer {a}")
                 return
-            w = self.belief.weights()
-            mask = np.zeros(len(w), dtype=bool)
-            mask[idx] = True
-            nxt = self._info_point(idx) if self.rule == "info" else \
-                axis_point(self.space, w, mask, self.reach, self.d)
-            if nxt is None:
-                score = mass_within_reach(self.space.points[idx], self.space.points, w, self.reach)
-                nxt = self.space.points[idx[int(np.argmax(score))]]
-            self._nexts[a] = np.asarray(nxt, dtype=float)[:2]
+            self._nexts[a] = self._rule_point(idx)[:2]
             chosen.append(self._nexts[a].copy())
         self.status.extra["next"] = self._nexts.tolist()
 
