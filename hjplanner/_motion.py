@@ -246,11 +246,12 @@ def first_hits(rx, ry, shapes, s, fractions, adm, radius):
     n = rx.shape[0]
     df = fractions[1] - fractions[0]
     out = np.full((nt, n), np.inf)
+    gap = np.hypot(rx, ry) - radius       # no arc shorter than this (less round-off) reaches the disk
     for k in range(nt):
         for p in range(n):
             best = np.inf
             for c in range(nc):
-                if (adm[k, p] >> np.uint32(c)) & np.uint32(1) == 0:
+                if gap[p] > s[c] + 1e-9 or (adm[k, p] >> np.uint32(c)) & np.uint32(1) == 0:
                     continue
                 before = 0.0
                 for q in range(m):

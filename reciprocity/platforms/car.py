@@ -442,10 +442,13 @@ class CarPlatform(WallMaps, Steering, GradientManoeuvre, Platform):
 
 def _finite_somewhere(vf, points) -> np.ndarray:
     """Mask of `points` (n, 2) where value function `vf` is finite for some of 8 headings."""
-    pts = np.asarray(points, dtype=float)
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    x, y = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
+    certified = vf.certified_clear(x, y)              # the same for every heading: once
     finite = np.zeros(len(pts), dtype=bool)
     for th in np.linspace(0, 2 * np.pi, 8, endpoint=False):
-        finite |= np.isfinite(vf(pts[:, 0], pts[:, 1], np.full(len(pts), th), cubic=False))
+        # the arc readings only lower finite values (never finite <-> inf): left out
+        finite |= np.isfinite(vf.at_certified(x, y, np.full(len(pts), th), certified, cubic=False, arcs=False))
     return finite
 
 

@@ -267,3 +267,25 @@ def test_the_car_drives_back_the_way_it_came_when_no_path_is_left(platform, worl
     assert any(e["text"].startswith("retrace: back") for e in platform._log["events"])
     # the trail now ends at the pose it went back to, the newest with a finite φ
     assert np.isfinite(home(*platform._trail[-1][0])) and len(platform._trail) < 20
+
+
+def test_reachability_mask_is_the_value_function_finite_at_some_of_eight_headings():
+    """``_finite_somewhere`` (certified once, no arc readings) against its definition: the
+    value function, as any caller evaluates it, finite for one of 8 headings. Points near
+    the walls, near the target (its exact layer) and behind the comb of ``paper`` included."""
+    from hjplanner import OnDemandPlanner
+    from reciprocity.platforms.car import _finite_somewhere
+    paper = arenas.load("paper")
+    planner = OnDemandPlanner(paper.without_scenario(), rho=arenas.CarSpec().rho, h=1.5, ntheta=48,
+                              clearance=4.0, reverse=True, maxsize=1)
+    vf = planner.get(np.array(paper.start[:2]))
+    rng = np.random.default_rng(3)
+    (x0, x1), (y0, y1) = paper.bounds
+    pts = np.vstack([np.column_stack([rng.uniform(x0 - 2, x1 + 2, 4000), rng.uniform(y0 - 2, y1 + 2, 4000)]),
+                     np.array(paper.start[:2]) + rng.normal(0.0, 2.0, (400, 2))])
+    expect = np.zeros(len(pts), dtype=bool)
+    for th in np.linspace(0, 2 * np.pi, 8, endpoint=False):
+        expect |= np.isfinite(vf(pts[:, 0], pts[:, 1], np.full(len(pts), th), cubic=False))
+    got = _finite_somewhere(vf, pts)
+    assert 0 < expect.sum() < len(pts)              # both answers occur
+    np.testing.assert_array_equal(got, expect)
