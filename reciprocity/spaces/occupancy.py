@@ -59,6 +59,10 @@ MAX_SIMPLIFY_CELLS = 4.0
 #: triangles that small there.
 SLIVER_CELLS = 0.5
 
+#: Neighbouring beams whose ends lie more than this many cells apart in range see past a
+#: wall's corner: the space between them is taken as free only up to the nearer end.
+SILHOUETTE_CELLS = 2.0
+
 
 class OccupancyGrid:
     """Log-odds occupancy over the box of a known outer boundary, updated from scans.
@@ -200,6 +204,10 @@ class OccupancyGrid:
         half a cell short of a hit (so the wall's own cell is hardly cleared), filled with
         :func:`skimage.draw.polygon`: with 64 beams at 40 cm neighbouring ends lie 4 cm
         apart, and tracing the beams alone would leave unseen slivers between them.
+        Where neighbouring beams end more than SILHOUETTE_CELLS apart (one passes the
+        corner of a wall the other hits), the space between them is free only up to the
+        nearer end (:func:`visibility_outline`): a chord from the hit out to the far end
+        would cut through the wall behind the corner and clear its cells.
         """
         from skimage.draw import polygon
         p = np.asarray(position, dtype=float)[:2]
@@ -207,7 +215,7 @@ class OccupancyGrid:
         hit = np.asarray(hit, dtype=bool)
         d = np.column_stack([np.cos(angles), np.sin(angles)])
         reach = np.where(hit, np.maximum(ranges - 0.5 * self.cell, 0.0), ranges)
-        ends = p + reach[:, None] * d
+        ends = visibility_outline(p, d, reach, hit, SILHOUETTE_CELLS * self.cell)
         fx, fy = (ends - self.origin).T / self.cell - 0.5   # fractional cell coordinates
         rr, cc = polygon(fy, fx, shape=self.logodds.shape)
         own_r, own_c, own_ok = self.index(p[None])
@@ -399,3 +407,66 @@ def _within_budget(geom, cell: float):
         kept.append(part)
         n += _vertices(part)
     return unary_union(kept) if kept else None
+
+
+def visibility_outline(position: np.ndarray, directions: np.ndarray, reach: np.ndarray, hit: np.ndarray,
+                       jump: float) -> np.ndarray:
+    """The outline of the space a scan saw free: the beam ends in beam order, with the
+    wedge between two neighbouring beams cut back to the nearer end where the farther one
+    has passed the corner of the wall the nearer one hit.
+
+    Parameters
+    ----------
+    position : numpy.ndarray, shape (2,)
+        Where the scan was taken, cm.
+    directions : numpy.ndarray, shape (n, 2)
+        Unit directions of the beams, in scan order (the last beam neighbours the first).
+    reach : numpy.ndarray, shape (n,)
+        How far along each beam the space is free, cm.
+    hit : numpy.ndarray, shape (n,)
+        Beams that ended on a wall.
+    jump : float
+        Reaches of neighbouring beams that differ by at most this much (cm) are joined by a
+        straight chord; so is a farther end within this distance of the wall the nearer
+        beam hit (the line through its end and its other neighbour's, both hits).
+
+    Returns
+    -------
+    numpy.ndarray, shape (m, 2)
+        Polygon vertices, cm: each beam's end, in beam order; where the wedge to the
+        previous (next) beam is cut back and this beam is the farther one, preceded
+        (followed) by the point on it at the nearer beam's reach.
+
+    Notes
+    -----
+    Where a beam passes a wall's corner and its neighbour hits the wall just before it,
+    the chord between their ends runs behind the corner, through the wall: a grid filled
+    inside that chord clears the wall's cells there, scan after scan, until the corner is
+    gone from the map. Between two such beams nothing beyond the nearer end is known to be
+    free. A wall seen at a grazing angle also gives neighbouring reaches far apart, but its
+    chords run along the wall and are kept.
+    """
+    p = np.asarray(position, dtype=float)[:2]
+    ends = p + reach[:, None] * directions
+    nxt = np.roll(reach, -1)
+    cut = np.abs(reach - nxt) > jump                   # the wedge between beam i and i + 1
+    near_first = reach <= nxt
+    # the nearer beam of each wedge, its other neighbour, and the farther beam
+    idx = np.arange(len(reach))
+    near = np.where(near_first, idx, (idx + 1) % len(reach))
+    other = np.where(near_first, (idx - 1) % len(reach), (idx + 2) % len(reach))
+    far = np.where(near_first, (idx + 1) % len(reach), idx)
+    along = ends[near] - ends[other]
+    size = np.hypot(along[:, 0], along[:, 1])
+    off = ends[far] - ends[near]
+    gap = np.abs(along[:, 0] * off[:, 1] - along[:, 1] * off[:, 0]) / np.where(size > 0, size, 1.0)
+    same_wall = hit[near] & hit[other] & (size > 0) & (gap <= jump)
+    cut &= ~same_wall
+    inner = np.minimum(reach, nxt)
+    # the cut point lies on the farther beam (on the nearer one it is the beam's own end)
+    before = np.roll(cut, 1) & (reach > np.roll(reach, 1))
+    after = cut & (reach > nxt)
+    radii = np.column_stack([np.where(before, np.roll(inner, 1), np.nan), reach, np.where(after, inner, np.nan)])
+    pts = p + radii[:, :, None] * directions[:, None, :]
+    pts = pts.reshape(-1, 2)
+    return pts[np.isfinite(pts[:, 0])]
