@@ -42,7 +42,7 @@ from ..validation import Bound, check_bounds
 from .base import Platform
 from .car_gradient import GradientManoeuvre
 from .car_maps import SCAN_EVERY, SWEEP_MARGIN, WallMaps, _same_walls  # noqa: F401 (SWEEP_MARGIN: by its old path)
-from .car_steering import CUSP_SLACK, TRAIL_TICKS, Steering
+from .car_steering import BACK_OFF, CUSP_SLACK, MAX_BACK_OFFS, TRAIL_TICKS, Steering
 from .lidar import Lidar
 
 __all__ = ["CAR_KEYS", "CarPlatform", "DrivingOptions", "PLANNERS", "check_car_options", "make_car_platform"]
@@ -393,7 +393,7 @@ class CarPlatform(WallMaps, Steering, GradientManoeuvre, Platform):
         est = self._virtual(vf, tb.estimate)
         budget = 2.0 * float(vf(*est)) + 60.0
         step = tb.spec.speed * tb.period
-        driven, gear_at, plan_s, since_plan = 0.0, None, 0.0, 0.0
+        driven, gear_at, plan_s, since_plan, backed_off = 0.0, None, 0.0, 0.0, 0
         dist = np.hypot(*(tb.estimate[:2] - goal))
         while dist > o.stop_tol:
             if driven > budget:
@@ -425,6 +425,16 @@ class CarPlatform(WallMaps, Steering, GradientManoeuvre, Platform):
             if stretch + 1 < len(gears) and ends[stretch] - plan_s <= CUSP_SLACK and self._boxed_in(v):
                 plan_s = float(ends[stretch])              # change gear now: the cusp is here
                 v = int(gears[stretch + 1])
+            elif self._backs_off(v):                       # the body is about to touch a wall
+                if backed_off == MAX_BACK_OFFS:
+                    self._event("the plan leads the body into a wall: measuring where the car stands")
+                    break
+                backed_off += 1
+                self._back_off(v)
+                driven += BACK_OFF
+                gear_at, est = None, self._virtual(vf, tb.estimate)
+                dist = np.hypot(*(tb.estimate[:2] - goal))
+                continue
             new_est = self._tick(self._steer(vf, est, v), v)
             driven += step
             self._since_scan += step

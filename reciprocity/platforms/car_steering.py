@@ -31,6 +31,14 @@ CUSP_SLACK = 3.0
 #: Where along each side of the body its distance to the walls is taken (0: the corner).
 BODY_SIDE_SAMPLES = (0.0, 0.25, 0.5, 0.75)
 
+#: Where every command of the planned gear would bring the body within BODY_MARGIN of a wall
+#: in the next BODY_LOOKAHEAD of driving, closer than it is, and the body is already within
+#: BACK_OFF_GAP (cm) of one, with no change of gear planned within CUSP_SLACK, the car backs
+#: off BACK_OFF cm in the other gear and plans again; after MAX_BACK_OFFS of them on the way
+#: to one target it measures where it stands (the plan, which keeps the centre, not the
+#: body, off the walls, leads its body into the same wall from there).
+BACK_OFF_GAP, BACK_OFF, MAX_BACK_OFFS = 1.0, 3.0, 3
+
 #: Six bang-bang actions (steer, direction): left / straight / right x forward / reverse.
 ACTIONS = tuple((u, v) for v in (1, -1) for u in (1, 0, -1))
 
@@ -131,6 +139,24 @@ class Steering:
         ahead = {u: ahead[u], **ahead}                  # the law's command first among equals
         best = max(ahead, key=ahead.get)
         return best if ahead[best] > ahead[u] else u
+
+    def _backs_off(self, v: int) -> bool:
+        """Whether the body is within BACK_OFF_GAP of a wall and every command in gear `v`
+        brings it closer, within BODY_MARGIN (see BACK_OFF_GAP)."""
+        gaps = self._gaps_ahead(self.testbed.estimate, v)
+        return gaps is not None and gaps[0] < BACK_OFF_GAP and all(g < min(BODY_MARGIN, gaps[0])
+                                                                   for g in gaps[1].values())
+
+    def _back_off(self, v: int) -> None:
+        """Drive BACK_OFF cm in the gear other than `v`, each tick with the command that keeps
+        the body farthest from the walls (ties to driving straight)."""
+        tb = self.testbed
+        self._event(f"back off: {BACK_OFF:g} cm {'forward' if v < 0 else 'in reverse'}, the body "
+                    f"{self._body_gap(tb.estimate):.2f} cm from a wall")
+        for _ in range(self._ticks_for(BACK_OFF)):
+            est = tb.estimate
+            gaps = {c: self._body_gap(dead_reckon(est, c, -v, BODY_LOOKAHEAD, tb.spec.rho)) for c in (0.0, -1.0, 1.0)}
+            self._tick(max(gaps, key=gaps.get), -v)
 
     def _boxed_in(self, v: int) -> bool:
         """Whether every command in gear `v` brings the body within BODY_MARGIN of a wall

@@ -289,3 +289,23 @@ def test_reachability_mask_is_the_value_function_finite_at_some_of_eight_heading
     got = _finite_somewhere(vf, pts)
     assert 0 < expect.sum() < len(pts)              # both answers occur
     np.testing.assert_array_equal(got, expect)
+
+
+def test_a_body_about_to_touch_a_wall_backs_off_in_the_other_gear(platform, world):
+    """The plan keeps the car's centre, not its body, off the walls: driving at a wall at
+    35°, a corner 0.7 cm from it, every forward command brings the body closer. The car
+    backs off in reverse, with no contact, and the body ends farther from the wall."""
+    from arenas.car import car_footprint
+    heading = -np.radians(35.0)
+    spec = platform.testbed.spec
+    lowest = car_footprint(np.array([30.0, 0.0, heading]), spec.length, spec.width)[:, 1].min()
+    platform.reset([30.0, 0.7 - lowest, heading], world, np.random.default_rng(0))
+    before = platform._body_gap(platform.testbed.estimate)
+    assert 0.5 < before < 1.0
+    assert platform._backs_off(1) and not platform._backs_off(-1)
+    contacts = len(platform.testbed.car.collisions)
+    platform._back_off(1)
+    assert len(platform.testbed.car.collisions) == contacts
+    assert platform._body_gap(platform.testbed.estimate) > before + 1.0
+    platform.reset([45.0, 45.0, heading], world, np.random.default_rng(0))
+    assert not platform._backs_off(1)                           # in the open: nothing to back off from
