@@ -47,7 +47,7 @@ class ReciprocityStrategy(Strategy):
     ----------
     preset : {None, "paper"}
         A named assembly (:data:`~.imaging_search.presets.PRESETS`); parameters given override it.
-    rule, d, reach : {"axis", "reach", "nearest", "info"}, float, float
+    rule, d, reach : {"axis", "reach", "nearest", "info", "lookahead"}, float, float
         Next-point rule, least separation of points read (cm), sensing reach (cm).
     combine : {"mean", "product"}
         The maps' combination: eq. (8), or the normalised likelihood.

@@ -47,3 +47,44 @@ def test_the_gaussian_closed_form_is_the_same_expectation_as_a_direct_sum():
             p = k / k.sum()
             direct[y] += w[j] * -np.sum(p * np.log(p))
     assert np.allclose(gaussian_expected(means, w, sigma), direct, rtol=1e-12)
+
+
+def test_two_step_entropy_is_the_sum_written_out():
+    """information.two_step_entropy (rule="lookahead") against a direct sum over the first
+    reading's outcomes (true source j, Gauss-Hermite node q), each posterior written out and
+    the best second candidate taken by information.expected_entropy."""
+    from reciprocity.strategies.information import HERMITE_NODES, HERMITE_WEIGHTS, two_step_entropy
+    rng = np.random.default_rng(1)
+    first, second = rng.uniform(0, 40, size=(3, 6)), rng.uniform(0, 40, size=(5, 6))
+    w = rng.dirichlet(np.ones(6))
+    sigma = 5.0
+    apart = rng.random((3, 5)) < 0.7
+    apart[:, 0] = True
+    direct = np.zeros(3)
+    for a in range(3):
+        for j in range(6):
+            for xi, g in zip(HERMITE_NODES, HERMITE_WEIGHTS):
+                post = w * np.exp(-(first[a, j] + sigma * xi - first[a]) ** 2 / (2 * sigma**2))
+                post /= post.sum()
+                direct[a] += w[j] * g * gaussian_expected(second, post, sigma)[apart[a]].min()
+    assert np.allclose(two_step_entropy(first, second, w, sigma, apart=apart), direct, rtol=1e-10)
+
+
+def test_two_step_entropy_is_near_a_fine_quadrature_and_below_one_step():
+    """The 3-node quadrature of the first reading's noise against a 2001-point one; and two
+    readings never expect more entropy than the better first one alone."""
+    from reciprocity.strategies.information import two_step_entropy
+    rng = np.random.default_rng(2)
+    first, second = rng.normal(0, 3, size=(3, 5)), rng.normal(0, 3, size=(4, 5))
+    w = rng.dirichlet(np.ones(5))
+    sigma = 1.3
+    fine = np.zeros(3)
+    for a in range(3):
+        r = np.linspace(first[a].min() - 8 * sigma, first[a].max() + 8 * sigma, 2001)
+        joint = w * np.exp(-(r[:, None] - first[a]) ** 2 / (2 * sigma**2)) / np.sqrt(2 * np.pi * sigma**2)
+        pr = joint.sum(axis=1)
+        best = [gaussian_expected(second, p / p.sum(), sigma).min() for p in joint]
+        fine[a] = np.sum(pr * np.array(best)) * (r[1] - r[0])
+    got = two_step_entropy(first, second, w, sigma)
+    assert np.allclose(got, fine, atol=0.02)
+    assert np.all(got <= gaussian_expected(first, w, sigma) + 0.02)

@@ -104,3 +104,17 @@ def test_separated_is_kept_up_to_date(setting):
 def test_bad_settings_name_the_key(bad, message):
     with pytest.raises(SearchError, match=message):
         NextPointRule(**bad)
+
+
+def test_lookahead_reads_where_two_modes_differ(setting):
+    """Two equal modes far apart: the two-step rule reads where their predicted readings
+    differ (near one of them), not midway where both predict the same."""
+    solver, space = setting
+    d1 = np.sum((solver.nodes - (30.0, 70.0)) ** 2, 1)
+    d2 = np.sum((solver.nodes - (110.0, 70.0)) ** 2, 1)
+    im = belief(solver, np.exp(-d1 / 8.0) + np.exp(-d2 / 8.0))
+    rule = NextPointRule("lookahead", 6.0, 12.0)
+    rule.start(space, solver, np.random.default_rng(0))
+    p, undecided = rule.choose(im, rule.separated(im.points), 12.0)
+    assert not undecided
+    assert min(np.hypot(*(p - (30.0, 70.0))), np.hypot(*(p - (110.0, 70.0)))) < 30.0

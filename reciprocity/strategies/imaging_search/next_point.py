@@ -28,6 +28,16 @@ clearance from the walls, and chosen by the rule (:class:`NextPointRule`):
     point is expected to gain :data:`INFO_GAIN_MIN` nats and the belief has two modes, the
     search gives up and says so, rather than stop on one mode.
 
+``"lookahead"``
+    two readings ahead: as ``"info"`` with :data:`LOOKAHEAD_SUPPORT` belief points, the
+    :data:`LOOKAHEAD_FIRST` lattice points of least one-step expected entropy are scored
+    by the expected entropy after their reading and then the best of the
+    :data:`LOOKAHEAD_SECOND` points of least one-step expected entropy at least ``d``
+    from them, for each outcome of the first reading
+    (:func:`~reciprocity.strategies.information.two_step_entropy`). A first point whose
+    own reading tells little but sets up a decisive second one can win over the myopic
+    choice. Once the belief sits in one lattice cell, as ``"axis"``.
+
 Once more than ``TEST_REACH_ABOVE`` of the belief lies out of reach, rules ``"axis"`` and
 ``"reach"`` read where most of the belief within reach lies (:func:`reach_test_point`), to
 find the source there or rule it out. A search for several sources, while it surveys for
@@ -42,13 +52,17 @@ from ...beliefs.imaging import ImagingMap
 from ...errors import SearchError
 from ...fem.green import GreenSolver
 from ...spaces import MeshSpace
-from ..information import expected_entropy, lattice_greens, mutual_information, systematic_support
+from ..information import (expected_entropy, lattice_greens, mutual_information, systematic_support,
+                           two_step_entropy)
 
 __all__ = ["NextPointRule", "RULES", "mass_within_reach", "axis_point", "reach_test_point", "survey_point",
-           "INFO_SPACING", "INFO_SUPPORT", "INFO_SCORE", "INFO_GAIN_MIN"]
+           "INFO_SPACING", "INFO_SUPPORT", "INFO_SCORE", "INFO_GAIN_MIN", "LOOKAHEAD_SUPPORT",
+           "LOOKAHEAD_FIRST", "LOOKAHEAD_SECOND"]
 
 #: Next-observation rules.
-RULES = ("axis", "reach", "nearest", "info")
+RULES = ("axis", "reach", "nearest", "info", "lookahead")
+#: Rules that score the lattice of :data:`INFO_SPACING` by expected entropy.
+LATTICE_RULES = ("info", "lookahead")
 #: Lattice spacing (cm) of the candidate sources and observation points of ``rule="info"``
 #: (at least the mesh size).
 INFO_SPACING = 2.5
@@ -62,6 +76,12 @@ INFO_SCORE = "pairs"
 #: Expected entropy gain (nats) below which ``rule="info"`` finds no point worth
 #: measuring: with two modes left the search gives up and says so.
 INFO_GAIN_MIN = 0.01
+#: Belief support points drawn per step by ``rule="lookahead"``.
+LOOKAHEAD_SUPPORT = 32
+#: First points ``rule="lookahead"`` looks ahead from: the least one-step expected entropy.
+LOOKAHEAD_FIRST = 16
+#: Second points ``rule="lookahead"`` considers after each first reading's outcome.
+LOOKAHEAD_SECOND = 64
 
 
 def mass_within_reach(candidates: np.ndarray, support: np.ndarray, weights: np.ndarray,
@@ -189,7 +209,7 @@ class NextPointRule:
 
     Parameters
     ----------
-    rule : {"axis", "reach", "nearest", "info"}
+    rule : {"axis", "reach", "nearest", "info", "lookahead"}
         The rule.
     d : float
         Minimum separation of observation points, cm.
@@ -217,7 +237,8 @@ class NextPointRule:
         (again after a re-mesh, keeping the random generator when `rng` is None)."""
         self.space, self.node_area, self.h = space, space.cell_areas, solver.h
         self._far, self._far_count = np.ones(len(space.points), dtype=bool), 0
-        self._lattice = lattice_greens(solver, max(INFO_SPACING, solver.h)) if self.rule == "info" else None
+        self._lattice = (lattice_greens(solver, max(INFO_SPACING, solver.h)) if self.rule in LATTICE_RULES
+                         else None)
         if rng is not None:
             self.rng = rng
 
@@ -234,17 +255,18 @@ class NextPointRule:
         """The next point among the `allowed` nodes for the belief `im`: ``(point cm or
         None, undecided)``. `near` (the possible sources within reach) is given when most
         of the belief lies out of reach; `noise` is a reading's (signal units).
-        `undecided` says the ``"info"`` rule expects less than INFO_GAIN_MIN nats from
-        its point (the caller gives up when the belief has several modes)."""
+        `undecided` says the ``"info"`` (or ``"lookahead"``) rule expects less than
+        INFO_GAIN_MIN nats from its point (the caller gives up when the belief has several
+        modes)."""
         if near is not None and self.tests_reach:
             nxt = reach_test_point(self.space, allowed, near, im.weights(), self.reach)
             if nxt is not None:
                 return nxt, False
-        if self.rule == "info":
-            nxt, gain = self._info_point(im, allowed, noise)
+        if self.rule in LATTICE_RULES:
+            nxt, gain = (self._info_point if self.rule == "info" else self._lookahead_point)(im, allowed, noise)
             if nxt is not None:
                 return nxt, gain < INFO_GAIN_MIN
-        if self.rule in ("axis", "info"):
+        if self.rule in ("axis",) + LATTICE_RULES:
             nxt = axis_point(self.space, im.values() * self.node_area, allowed, self.reach, self.d)
             if nxt is not None:
                 return nxt, False
@@ -285,6 +307,27 @@ class NextPointRule:
             gain = -w @ np.log(w) - expected_entropy(means, w, noise)
         best = int(np.argmax(gain))
         return lat.points[cand[best]].copy(), float(gain[best])
+
+    def _lookahead_point(self, im: ImagingMap, allowed: np.ndarray, noise: float
+                         ) -> tuple[np.ndarray | None, float]:
+        """The ``"lookahead"`` rule: the admissible lattice point of least expected entropy
+        two readings ahead and that gain (nats); ``(None, 0)`` as :meth:`_info_point`."""
+        lat = self._lattice
+        mass = np.bincount(lat.anchor, im.weights(), minlength=len(lat.nodes))
+        anchors, w = systematic_support(mass, LOOKAHEAD_SUPPORT, self.rng)
+        cand = np.flatnonzero(allowed[lat.nodes])
+        if anchors.size < 2 or cand.size == 0:
+            return None, 0.0
+        c = im.strength_map()[lat.nodes[anchors]]
+        means = lat.columns(anchors)[cand] * c[None, :]               # c_i G(y, x_i), reciprocity
+        one = expected_entropy(means, w, noise)
+        order = np.argsort(one, kind="stable")
+        first, second = order[:LOOKAHEAD_FIRST], order[:LOOKAHEAD_SECOND]
+        pts = lat.points[cand]
+        gap = np.hypot(*(pts[first][:, None, :] - pts[second][None, :, :]).transpose(2, 0, 1))
+        two = two_step_entropy(means[first], means[second], w, noise, apart=gap >= self.d)
+        best = int(np.argmin(two))
+        return pts[first[best]].copy(), float(-w @ np.log(w) - two[best])
 
     def params(self) -> dict:
         """The settings, as :meth:`ReciprocityStrategy.params` reports them."""
