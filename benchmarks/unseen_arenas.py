@@ -30,7 +30,7 @@ FIELDS = ["family", "draw", "mode", "arena", "success", "converged", "stop", "er
 
 
 def run(families: list[str], draws: int, out: Path, minutes: float | None, modes=tuple(MODES),
-        start: int = 0, params: dict | None = None) -> None:
+        start: int = 0, params: dict | None = None, world_keys: dict | None = None) -> None:
     import arenas
     from reciprocity.env import SearchEnv, rollout
     from reciprocity.scenarios import load_scenario
@@ -48,7 +48,7 @@ def run(families: list[str], draws: int, out: Path, minutes: float | None, modes
                 for mode, world in MODES.items():
                     if (fam, i, mode) in done or mode not in modes:
                         continue
-                    env = SearchEnv(scenario, world=dict(world))
+                    env = SearchEnv(scenario, world={**(world_keys or {}), **world})
                     t0 = time.perf_counter()
                     s = rollout(env, StrategyAgent(STRATEGIES["reciprocity"], dict(params or {})), i).summary
                     w.writerow(dict(family=fam, draw=i, mode=mode, arena=s["arena"], success=s["success"],
@@ -129,10 +129,13 @@ def main(argv=None) -> int:
     p.add_argument("--table", type=Path, nargs="+", help="print the table of runs CSV(s) instead")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="a parameter of the reciprocity strategy (YAML value), e.g. source_clearance=0")
+    p.add_argument("--world", action="append", default=[], metavar="KEY=VALUE",
+                   help="a key of every draw's world (YAML value), e.g. noise=3")
     args = p.parse_args(argv)
     from resumable import strategy_sets
     try:
         params = strategy_sets(args.set)
+        world_keys = strategy_sets(args.world)
     except ValueError as exc:
         p.error(str(exc))
     if args.table:
@@ -141,7 +144,7 @@ def main(argv=None) -> int:
     modes = tuple(m for m in args.modes.split(",") if m)
     if not modes or set(modes) - set(MODES):
         p.error(f"--modes takes known and/or unknown; got {args.modes!r}")
-    run(args.families, args.draws, args.out, args.minutes, modes, args.start, params)
+    run(args.families, args.draws, args.out, args.minutes, modes, args.start, params, world_keys)
     print(table(args.out))
     return 0
 
