@@ -29,13 +29,18 @@ __all__ = ["run", "check", "execute", "make_strategy", "strategy_parameters", "E
 
 def strategy_parameters(name: str) -> list[str]:
     """The parameter names strategy `name` accepts."""
-    sig = inspect.signature(STRATEGIES[name].__init__)
+    return _parameters(STRATEGIES[name])
+
+
+def _parameters(cls: type) -> list[str]:
+    """The parameter names strategy class `cls` accepts (its keyword-only ones)."""
+    sig = inspect.signature(cls.__init__)
     return [p.name for p in sig.parameters.values() if p.kind is p.KEYWORD_ONLY]
 
 
-def _checked_params(name: str, params: dict) -> None:
-    """Refuse parameters strategy `name` does not take, or out of their bounds."""
-    valid = strategy_parameters(name)
+def _checked_params(cls: type, name: str, params: dict) -> None:
+    """Refuse parameters strategy `name` (class `cls`) does not take, or out of their bounds."""
+    valid = _parameters(cls)
     unknown = sorted(set(params) - set(valid))
     if unknown:
         raise SearchError(f"unknown parameter(s) {', '.join(unknown)} for strategy {name!r}; "
@@ -44,16 +49,17 @@ def _checked_params(name: str, params: dict) -> None:
 
 
 def _strategy_class(name: str) -> type:
-    if name not in STRATEGIES:
+    cls = STRATEGIES.get(name)              # one look-up (the registry imports on first use)
+    if cls is None:
         raise SearchError(f"unknown strategy {name!r}; choose one of {', '.join(STRATEGIES)}")
-    return STRATEGIES[name]
+    return cls
 
 
 def make_strategy(name: str, **params) -> Strategy:
     """Build the strategy called `name` (see :data:`reciprocity.strategies.STRATEGIES`);
     an unknown or invalid parameter raises SearchError naming the valid ones."""
     cls = _strategy_class(name)
-    _checked_params(name, params)
+    _checked_params(cls, name, params)
     return _built(cls, name, params)
 
 
@@ -118,7 +124,7 @@ def check(scenario: str | Scenario | Arena | EpisodeSpec, strategy: str, *, para
     n = _agents(cls, sc, agents)
     check_team(sc, n)
     params = dict(params or {})
-    _checked_params(strategy, params)
+    _checked_params(cls, strategy, params)
     built = _built(cls, strategy, params)
     options = checked_options(sc, plat, platform_options)
     spec = EpisodeSpec(sc, plat, n, options, strategy, cls, params, seeds)

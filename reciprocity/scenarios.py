@@ -23,6 +23,7 @@ the files of ``reciprocity/data/scenarios``. World kinds are registered with
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from importlib import resources
 from pathlib import Path
 from typing import Callable
@@ -138,8 +139,9 @@ class Scenario:
     agents: int = 1
     description: str = ""
 
-    @property
+    @cached_property
     def kind(self) -> WorldKind:
+        """The :class:`WorldKind` of :attr:`world` (looked up once per scenario)."""
         return WORLD_KINDS[self.world]
 
     @property
@@ -200,23 +202,25 @@ class Scenario:
             except SearchError as exc:
                 raise SearchError(f"scenario {self.name!r}: {exc}") from None
 
-    def build_world(self, seed: int):
-        """The world of an episode with seed `seed` (its random parts drawn from it)."""
-        seeds = EpisodeSeeds.from_seed(seed, 0)
+    def build_world(self, seed: int | EpisodeSeeds):
+        """The world of an episode with seed `seed` (its random parts drawn from it), or
+        with the seed tree `seed` an environment derived already."""
+        seeds = seed if isinstance(seed, EpisodeSeeds) else EpisodeSeeds.from_seed(seed, 0)
         world = self.kind.build(self.params, seeds.rng(seeds.build))
         world.success_radius = self.success_radius
         return world
 
-    def start_poses(self, world, n_agents: int, seed: int) -> np.ndarray:
+    def start_poses(self, world, n_agents: int, seed: int | EpisodeSeeds) -> np.ndarray:
         """Start poses (n_agents, 3): the scenario's (one pose shared by all agents, or the
-        first `n_agents` of its list), else the world's default."""
+        first `n_agents` of its list), else the world's default, drawn from episode `seed`
+        (or its seed tree)."""
         if self.starts is not None:
             s = self.starts
             return np.array([s[min(k, len(s) - 1)] for k in range(n_agents)], dtype=float)
         default_start = self.kind.default_start
         if default_start is None:
             raise SearchError(f"scenario {self.name!r} has no start: give start: [x, y]")
-        seeds = EpisodeSeeds.from_seed(seed, 0)
+        seeds = seed if isinstance(seed, EpisodeSeeds) else EpisodeSeeds.from_seed(seed, 0)
         rng = seeds.rng(seeds.starts)
         return np.array([default_start(world, rng) for _ in range(n_agents)], dtype=float)
 
@@ -310,10 +314,10 @@ def from_dict(data: dict, name: str = "scenario") -> Scenario:
     data = dict(data)
     where = f"scenario {name!r}"
     kind = data.pop("world")
-    if not isinstance(kind, str) or kind not in WORLD_KINDS:
+    wk = WORLD_KINDS.get(kind) if isinstance(kind, str) else None      # one look-up
+    if wk is None:
         raise SearchError(f"{where}: unknown world kind {kind!r}; choose one of {', '.join(WORLD_KINDS)}")
     common = {k: data.pop(k) for k in COMMON_KEYS if k in data}
-    wk = WORLD_KINDS[kind]
     platform = common.get("platform", next(iter(wk.platforms)))
     if not isinstance(platform, str) or platform not in wk.platforms:
         raise SearchError(f"{where}: platform {platform!r} does not apply to {kind} worlds; "

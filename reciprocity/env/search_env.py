@@ -116,13 +116,13 @@ class SearchEnv:
             seed = checked_seed(seed)
         sc, n = self.scenario, self.n_agents
         self.seeds = seeds = EpisodeSeeds.from_seed(int(seed), n)
-        world = sc.build_world(seeds.seed)
+        world = sc.build_world(seeds)
         opts = dict(self.platform_options)
         if self.platform_name == "car" and (options or {}).get("progress"):
             opts["progress"] = True
         factory = sc.kind.platforms[self.platform_name]
         plats = [factory(world, sc, dict(opts)) for _ in range(n)]
-        starts = np.atleast_2d(np.asarray(sc.start_poses(world, n, seeds.seed), dtype=float))
+        starts = np.atleast_2d(np.asarray(sc.start_poses(world, n, seeds), dtype=float))
         if len(starts) != n:
             raise SearchError(f"{n} observers but {len(starts)} start poses")
         if not np.all(world.contains(starts[:, :2])):

@@ -65,15 +65,14 @@ class DiscretisationError:
     pairs: int
 
 
-def _sample_sources(solver: GreenSolver, coarse: GreenSolver, k: int) -> np.ndarray:
-    """`k` nodes of `solver` spread over the free region (farthest-point order from the
-    node nearest the centroid), each inside the coarse mesh and at least two coarse cells
-    from its walls: deterministic, so one geometry always gives one estimate."""
+def _sample_sources(pts: np.ndarray, mesh, in_coarse: np.ndarray, coarse_h: float, k: int) -> np.ndarray:
+    """`k` of the fine solver's nodes `pts` (on its P1 `mesh`) spread over the free region
+    (farthest-point order from the node nearest the centroid), each inside the coarse mesh
+    (`in_coarse`) and at least two coarse cells (`coarse_h`, cm) from its walls:
+    deterministic, so one geometry always gives one estimate."""
     from scipy.spatial import cKDTree
-    pts = solver.nodes
-    mesh = solver._mesh1
     boundary = mesh.p.T[np.unique(mesh.facets[:, mesh.boundary_facets()])]
-    ok = (coarse.locate(pts) >= 0) & (cKDTree(boundary).query(pts)[0] >= 2.0 * coarse.h)
+    ok = in_coarse & (cKDTree(boundary).query(pts)[0] >= 2.0 * coarse_h)
     idx = np.flatnonzero(ok)
     if idx.size == 0:
         return np.empty((0, 2))
@@ -124,18 +123,21 @@ def discretisation_error(solver: GreenSolver, *, sources: int = SAMPLE_SOURCES,
     if kept is not None and kept[0] == key:
         return kept[1]
     coarse = GreenSolver(solver.arena, h=2.0 * solver.h, order=1, walls=solver.walls)
-    src = _sample_sources(solver, coarse, int(sources))
+    nodes = solver.nodes
+    # the fine nodes located in the coarse mesh once: where sample sources may lie, and
+    # where the coarse fields are compared
+    probe, inside = coarse.probe_matrix(nodes)
+    src = _sample_sources(nodes, solver._mesh1, inside, coarse.h, int(sources))
     if len(src) == 0:
         raise ReciprocityError("no sample source fits inside the coarse mesh: the arena is too small "
                                f"for h = {solver.h:g} cm")
     fine = solver.greens(src)                                       # (n_dofs, k)
     rough = coarse.greens(src)
-    probe, inside = coarse.probe_matrix(solver.nodes)
     rough_at = probe @ rough
     rel, dist = [], []
     for j, s in enumerate(src):
-        r = np.hypot(*(solver.nodes - s).T)
-        g = fine[:solver.nodes.shape[0], j]
+        r = np.hypot(*(nodes - s).T)
+        g = fine[:nodes.shape[0], j]
         use = (r >= NEAR_CELLS * coarse.h) & (g > FLOOR_SHARE * g.max()) & inside
         err = np.abs(rough_at[use, j] - g[use]) / (2.0 ** ORDER - 1.0)
         rel.append(err / g[use])

@@ -303,7 +303,9 @@ class GreenSolver:
 
     def _probe_matrix(self, pts: np.ndarray, cells: np.ndarray | None = None
                       ) -> tuple[sp.csr_matrix, np.ndarray]:
-        cells = self.locate(pts) if cells is None else cells.copy()
+        """:meth:`probe_matrix` of checked points `pts` (n, 2), with their `cells` when
+        they were located already."""
+        cells = self.locator.locate(pts) if cells is None else cells.copy()
         inside = cells >= 0
         if self.order == 2 and self.arena.circle is not None and not inside.all():
             # curved boundary: points between a chord and its arc are in the nearest cell
@@ -339,8 +341,9 @@ class GreenSolver:
         return self._grid_cache[spacing]
 
     # ------------------------------------------------------------------ solves
-    def _check_in_free(self, pts: np.ndarray, what: str, cells: np.ndarray | None = None) -> None:
-        bad = (self.locate(pts) if cells is None else cells) < 0
+    def _check_in_free(self, pts: np.ndarray, what: str, cells: np.ndarray) -> None:
+        """Refuse a point of `pts` whose cell (of `cells`, as located) is outside."""
+        bad = cells < 0
         if bad.any():
             p = pts[np.argmax(bad)]
             raise ReciprocityError(
@@ -358,7 +361,7 @@ class GreenSolver:
             Strengths (default 1). The result sums all sources into one vector.
         """
         pts = as_points(points, "source points")
-        cells = self.locate(pts)      # once, for the check and the load vector
+        cells = self.locator.locate(pts)      # once, for the check and the load vector
         self._check_in_free(pts, "source point", cells)
         w = np.ones(len(pts)) if weights is None else np.asarray(weights, dtype=float)
         m, _ = self._probe_matrix(pts, cells)
@@ -459,8 +462,9 @@ class GreenSolver:
     def greens(self, points) -> np.ndarray:
         """Dof values of ``G(·, z_k)`` for many points at once, shape (n_dofs, n)."""
         pts = as_points(points, "observation points")
-        self._check_in_free(pts, "observation point")
-        m, _ = self.probe_matrix(pts)
+        cells = self.locator.locate(pts)      # once, for the check and the load vectors
+        self._check_in_free(pts, "observation point", cells)
+        m, _ = self._probe_matrix(pts, cells)
         return self.solve(m.T.toarray())
 
     def field(self, source=None, strength: float | None = None, *, cached: bool = False) -> Field:

@@ -127,14 +127,15 @@ class ReciprocityStrategy(Strategy):
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
         self.notes.update(self.mesh.start(ctx))
-        b = self.likelihood.belief(self.solver, ctx.nominal, ctx.arena.strength, self.combine,
+        arena_strength, start = ctx.arena.strength, ctx.start[:2]
+        b = self.likelihood.belief(self.solver, ctx.nominal, arena_strength, self.combine,
                                    None if self.mapping is None else self.mapping.model_error)
         self.sigma_used, self.error_terms, self._model_error = b.sigma, b.error_terms, b.model_error
         self.rng, self.imaging = ctx.rng, self.mesh.believed(b.imaging)
-        self.reachability.start(self.space, self.solver, ctx.start[:2])
-        self._next, self._here = np.asarray(ctx.start[:2], dtype=float), np.array(ctx.start[:2], dtype=float)
+        self.reachability.start(self.space, self.solver, start)
+        self._next, self._here = np.asarray(start, dtype=float), np.array(start, dtype=float)
         self.next_point_rule.start(self.space, self.solver, ctx.rng)
-        strength = b.strength if b.strength is not None else ctx.nominal.get("strength", ctx.arena.strength)
+        strength = b.strength if b.strength is not None else ctx.nominal.get("strength", arena_strength)
         self.several.start(ctx.nominal, self.imaging, strength, self.space.wall_distance)
         self.max_steps = self.stop_rule.cap(several=self.several.bound > 1)
         self._check_reachable()

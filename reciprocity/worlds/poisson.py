@@ -193,13 +193,13 @@ class PoissonWorld(World):
         self.arena = arena
         self.mismatch = mismatch or Mismatch()
         self.true_arena = shifted_walls(arena, self.mismatch.wall_shift)
-        self.sources, given, self.max_sources = source_set("poisson", arena.source, sources, strengths,
-                                                           float(arena.strength), max_sources)
-        if not np.all(self.true_arena.contains(self.sources)):
+        points, given, self.max_sources = source_set("poisson", arena.source, sources, strengths,
+                                                     float(arena.strength), max_sources)
+        if not np.all(self.true_arena.contains(points)):
             raise SearchError("a source lies inside a shifted wall: reduce wall_shift")
         #: true strengths (the nominal strength is the task's, ``arena.strength``)
-        self.strengths = given * self.mismatch.strength_factor
-        self.source = self.sources[0]
+        self.sources, self.strengths = points, given * self.mismatch.strength_factor
+        self.source = points[0]
         self.strength = float(self.strengths[0])
         self.noise = float(noise)
         self.true_noise = self.noise * self.mismatch.noise_factor

@@ -13,8 +13,8 @@ def _true_relative(solver, coarse_h):
     """The QUANTILE of the true relative error of `solver`'s Green's functions on `disk`
     over the pairs the estimate uses."""
     coarse = r.GreenSolver(solver.arena, h=coarse_h)
-    src = disc._sample_sources(solver, coarse, disc.SAMPLE_SOURCES)
     _, inside = coarse.probe_matrix(solver.nodes)
+    src = disc._sample_sources(solver.nodes, solver._mesh1, inside, coarse.h, disc.SAMPLE_SOURCES)
     rel = []
     for j, z in enumerate(src):
         g = solver.greens(z[None])[:, 0]

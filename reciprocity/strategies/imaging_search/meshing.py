@@ -41,9 +41,8 @@ SURVEY_CAP = 3
 
 def candidate_space(geometry, solver: GreenSolver) -> MeshSpace:
     """The candidate points on `geometry`: the nodes of `solver`'s own P1 mesh."""
-    space = mesh_space(geometry, solver.h)
-    if solver.order != 1 or space.points.shape != solver.nodes.shape or \
-            not np.allclose(space.points, solver.nodes, atol=1e-9):
+    space, nodes = mesh_space(geometry, solver.h), solver.nodes
+    if solver.order != 1 or space.points.shape != nodes.shape or not np.allclose(space.points, nodes, atol=1e-9):
         raise SearchError("the reciprocity strategy needs a P1 solver (order=1) on the arena's mesh")
     return space
 
