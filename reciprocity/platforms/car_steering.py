@@ -58,6 +58,9 @@ class Steering:
     """Steering by the value function, with the band and body guards (a mixin of
     :class:`~reciprocity.platforms.car.CarPlatform`, whose state it uses)."""
 
+    #: The last answer of :meth:`_gaps_ahead` with what it was computed from.
+    _gaps_memo: tuple | None = None
+
     def _virtual(self, vf, est: np.ndarray) -> np.ndarray:
         """The pose the controller steers from: the estimate, or, when drift has taken it
         into the clearance band around the walls (where φ = inf; optimal paths run
@@ -167,7 +170,23 @@ class Steering:
     def _gaps_ahead(self, here: np.ndarray, v: int) -> tuple[float, dict] | None:
         """The body's distance to the walls at `here` and after BODY_LOOKAHEAD of driving
         in gear `v` with each command (-1, 0, +1), cm; None when no command can bring it
-        within BODY_MARGIN in that distance."""
+        within BODY_MARGIN in that distance.
+
+        The guards of one tick (:meth:`_backs_off` or :meth:`_boxed_in`, then
+        :meth:`_keep_body_off`) ask at the same pose and gear: the last answer is kept,
+        for the exact pose, the gear, the map object (an unknown map is replaced by a
+        new :class:`~arenas.Arena` when it changes, never changed in place) and the car's
+        specification, everything :meth:`_body_gap` reads."""
+        here = np.asarray(here, dtype=float)
+        spec = self.testbed.spec
+        key = (here.tobytes(), int(v))
+        memo = self._gaps_memo
+        if memo is None or memo[0] != key or memo[1] is not self.arena or memo[2] is not spec:
+            memo = self._gaps_memo = (key, self.arena, spec, self._gaps_at(here, v))
+        gaps = memo[3]
+        return None if gaps is None else (gaps[0], dict(gaps[1]))
+
+    def _gaps_at(self, here: np.ndarray, v: int) -> tuple[float, dict] | None:
         now = self._body_gap(here)
         if now >= BODY_MARGIN + BODY_LOOKAHEAD:
             return None

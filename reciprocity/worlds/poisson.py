@@ -10,6 +10,7 @@ is told, on purpose.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import asdict, dataclass, replace
 from functools import lru_cache
 
@@ -134,13 +135,62 @@ def superposed_field(solver: GreenSolver, sources: np.ndarray, strengths: np.nda
 @lru_cache(maxsize=4)
 def _floor(arena: Arena, sources: tuple, strengths: tuple, h: float, px_per_mm: float, gamma: float):
     from arenas import render_floor
+    from arenas.floor import free_pixels
     field = superposed_field(truth_solver(arena, h), np.array(sources), np.array(strengths))
-    floor = render_floor(arena, field, px_per_mm=px_per_mm)
+    centres = free_pixels(arena, 10.0 * px_per_mm)[1]
+    floor = render_floor(arena, _FloorField(field, centres), px_per_mm=px_per_mm)
     if gamma == 1.0:
         return floor
     u_max = floor.mapping.u_max
     printed = Field(field.solver, u_max * np.clip(field.dofs / u_max, 0, None) ** gamma, "u printed")
-    return render_floor(arena, printed, px_per_mm=px_per_mm, mapping=floor.mapping)
+    return render_floor(arena, _FloorField(printed, centres), px_per_mm=px_per_mm, mapping=floor.mapping)
+
+
+#: Where the probe matrices of the floor's pixel centres are: ``(solver, centres, {(first
+#: row, rows): (matrix, inside)})``, all held weakly. The matrices are those the solver's
+#: own cache (:meth:`GreenSolver.probe_matrix`, by content) holds; this finds them by the
+#: identity of the centres instead of by hashing them (27 MB for a 140 cm arena at 1 px/mm)
+#: for every floor painted on them, and keeps nothing alive the solver has let go.
+_floor_probes: list = [None, None, {}]
+
+
+class _FloorField:
+    """`field` as :func:`arenas.render_floor` evaluates it on the free pixel centres
+    `centres` (:func:`arenas.floor.free_pixels`: read-only, made in this process), a
+    chunk at a time: bit for bit ``field(part)``, with the probe matrix of a chunk found by
+    where it lies in `centres` (a read-only view of the read-only array, which this
+    process made and nothing can change) when the solver still holds it. Any other
+    points go to ``field`` itself."""
+
+    def __init__(self, field: Field, centres: np.ndarray):
+        self.field, self.centres = field, centres
+        solver, held, probes = _floor_probes
+        if held is None or held() is not centres or solver() is not field.solver:
+            _floor_probes[:] = weakref.ref(field.solver), weakref.ref(centres), {}
+        self._probes = _floor_probes[2]
+
+    def __call__(self, points) -> np.ndarray:
+        rows = self._rows(points)
+        if rows is None:
+            return self.field(points)
+        refs = self._probes.get(rows)
+        m, inside = (None, None) if refs is None else (refs[0](), refs[1]())
+        if m is None or inside is None:
+            m, inside = self.field.solver.probe_matrix(points)
+            self._probes[rows] = weakref.ref(m), weakref.ref(inside)
+        out = m @ self.field.dofs
+        out[~inside] = np.nan
+        return out
+
+    def _rows(self, points) -> tuple[int, int] | None:
+        """``(first row, rows)`` of `points` in the centres when they are a read-only slice
+        of rows of the read-only centres, else None."""
+        c = self.centres
+        if (not isinstance(points, np.ndarray) or points.base is not c or c.flags.writeable
+                or points.flags.writeable or points.dtype != c.dtype or points.strides != c.strides):
+            return None
+        first, rest = divmod(points.ctypes.data - c.ctypes.data, c.strides[0])
+        return (int(first), len(points)) if rest == 0 and 0 <= first <= len(c) - len(points) else None
 
 
 class PoissonWorld(World):

@@ -309,3 +309,63 @@ def test_a_body_about_to_touch_a_wall_backs_off_in_the_other_gear(platform, worl
     assert platform._body_gap(platform.testbed.estimate) > before + 1.0
     platform.reset([45.0, 45.0, heading], world, np.random.default_rng(0))
     assert not platform._backs_off(1)                           # in the open: nothing to back off from
+
+
+def test_the_body_guards_share_one_tick_of_gaps_and_never_a_stale_one(platform, world):
+    """``_gaps_ahead`` keeps its last answer for the guards of one tick; a new pose (a new
+    array or the same one changed in place), gear or map object gives a fresh answer."""
+    from arenas.car import car_footprint
+    heading = -np.radians(35.0)
+    spec = platform.testbed.spec
+    lowest = car_footprint(np.array([30.0, 0.0, heading]), spec.length, spec.width)[:, 1].min()
+    platform.reset([30.0, 0.7 - lowest, heading], world, np.random.default_rng(0))
+    est = platform.testbed.estimate
+    first = platform._gaps_ahead(est, 1)
+    assert first is not None and first == platform._gaps_at(est, 1)
+    assert platform._gaps_ahead(est.copy(), 1) == first
+    assert platform._gaps_ahead(est, -1) == platform._gaps_at(est, -1) != first
+    moved = est + np.array([0.0, 0.4, 0.0])
+    assert platform._gaps_ahead(moved, 1) == platform._gaps_at(moved, 1) != first
+    est[1] += 0.4                                               # the same array, a new pose
+    assert platform._gaps_ahead(est, 1) == platform._gaps_at(est, 1) != first
+    est[1] -= 0.4
+    known = platform.arena
+    try:                                                        # the believed map is replaced
+        platform.arena = arenas.Arena.from_polygons(known.boundary + np.array([0.0, 0.3]),
+                                                    known.obstacles, name=known.name)
+        assert platform._gaps_ahead(est, 1) == platform._gaps_at(est, 1) != first
+    finally:
+        platform.arena = known
+    assert platform._gaps_ahead(est, 1) == first
+    platform._gaps_ahead(est, 1)[1][0.0] = -1.0                 # a caller's change stays its own
+    assert platform._gaps_ahead(est, 1) == first
+
+
+def test_the_floor_finds_its_probe_matrices_by_identity_and_never_a_stale_one(world):
+    """The floor's field on the read-only free pixel centres equals the field itself, bit
+    for bit, for a new field on the same centres, for slices of them, and for any other
+    points (a writable copy, read-only points elsewhere), which go to the field."""
+    from arenas import render_floor
+    from arenas.floor import free_pixels
+    from reciprocity.worlds.poisson import _FloorField, superposed_field, truth_solver
+    arena = world.true_arena.without_scenario()
+    field = superposed_field(truth_solver(arena, world.h), world.sources, world.strengths)
+    centres = free_pixels(arena, 5.0)[1]
+    assert not centres.flags.writeable
+
+    def same(a, b):
+        return np.array_equal(a, b, equal_nan=True)
+
+    floor = _FloorField(field, centres)
+    assert same(floor(centres), field(centres)) and same(floor(centres), field(centres))
+    assert same(floor(centres[10:50]), field(centres[10:50]))
+    assert same(floor(centres[10:50]), field(centres[10:50]))    # too small for the solver to keep
+    other = field * 2.0
+    assert same(_FloorField(other, centres)(centres), other(centres))
+    shifted = centres + np.array([0.5, 0.0])
+    assert same(floor(shifted), field(shifted))
+    shifted.setflags(write=False)
+    assert same(floor(shifted), field(shifted))
+    assert same(floor(centres.copy()), field(centres))
+    painted = world.floor(px_per_mm=0.5)
+    assert np.array_equal(painted.image, render_floor(arena, field, px_per_mm=0.5).image)
