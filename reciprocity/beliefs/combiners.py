@@ -54,7 +54,7 @@ class ProductCombiner:
             s = im._marginal_misfit()
         else:
             r = im._residuals()
-            if im.model_error > 0 or im.offset_sd > 0:
+            if im.model_error > 0 or im.offset_sd > 0 or getattr(im, "position_error", False):
                 s = im._correlated_misfit(r)
             else:
                 s = np.sum(r * r, axis=1)
@@ -73,9 +73,9 @@ def combiner(name: str) -> MeanCombiner | ProductCombiner:
 
 
 def correlated_misfit(r: np.ndarray, sigma: float, model: np.ndarray, model_error: float,
-                      offset_sd: float) -> np.ndarray:
+                      offset_sd: float, extra: np.ndarray | None = None) -> np.ndarray:
     """``-log`` likelihood per node (up to a constant) of readings with independent
-    variances ``d_k = s^2 + (model_error v_k)^2`` (``s = sigma/sqrt 2``) and one shared
+    variances ``d_k = s^2 + (model_error v_k)^2 + extra_k`` (``s = sigma/sqrt 2``) and one shared
     offset of variance ``offset_sd^2`` integrated out (Sherman-Morrison; the
     log-determinant counts, as the variances differ from node to node).
 
@@ -91,9 +91,13 @@ def correlated_misfit(r: np.ndarray, sigma: float, model: np.ndarray, model_erro
         Relative error of a predicted reading (a fraction).
     offset_sd : float
         Standard deviation of the shared offset, signal units.
+    extra : ndarray, shape (n_nodes, M), optional
+        Further independent variances, signal units² (a candidate's position error).
     """
     s2 = sigma ** 2 / 2.0
     d = s2 + (model_error * model) ** 2                          # (n_nodes, M)
+    if extra is not None:
+        d = d + extra
     e = r * sigma                                                # residuals, signal units
     q = np.sum(e * e / d, axis=1)
     logdet = np.sum(np.log(d / s2), axis=1)

@@ -100,6 +100,15 @@ class ImagingMap(Belief):
         (the FEM field near the source, the painted floor), a fraction of the predicted
         reading added in quadrature to the noise: reading ``k`` at a candidate ``x`` has
         variance ``sigma^2/2 + (model_error v_k(x))^2``. 0: none.
+    position_error : bool
+        With ``combine="product"`` and no `strength_range`: a node stands for every source
+        in its lumped area, not only for a source at the node, so reading ``k`` has the
+        variance of ``v_k`` over that area added in quadrature, ``(rho_x |∇v_k|_x)^2``
+        with ``rho_x^2`` the node's area over 6 (the mean square distance to the centre of
+        a square cell of that area, cm²) and ``|∇v_k|_x`` the RMS slope of ``v_k`` around
+        the node (:class:`~reciprocity.fem.gradients.NodalSlope`). It counts within a few
+        cm of a reading point, where ``v_k`` is steepest, and matters where the noise is
+        small. False: none.
     combine : {"mean", "product"}
         ``"mean"``: eq. (8). ``"product"``: ``Π p_k`` rescaled to maximum 1.
 
@@ -117,7 +126,7 @@ class ImagingMap(Belief):
 
     def __init__(self, solver: GreenSolver, sigma: float, *, strength: float | None,
                  combine: str = "mean", strength_range: tuple[float, float] | None = None,
-                 offset_sd: float = 0.0, model_error: float = 0.0):
+                 offset_sd: float = 0.0, model_error: float = 0.0, position_error: bool = False):
         if not isinstance(solver, GreenSolver):
             raise ReciprocityError("solver must be a reciprocity.GreenSolver")
         if not np.isfinite(sigma) or sigma <= 0:
@@ -140,6 +149,8 @@ class ImagingMap(Belief):
         if not np.isfinite(model_error) or not 0 <= model_error < 1:
             raise ReciprocityError(f"model_error must be a fraction in [0, 1); got {model_error!r}")
         self.model_error = float(model_error)
+        self.position_error = bool(position_error)
+        self._slope = None
         self.strength_range = strength_range if strength is None else None
         self.nodes = solver.nodes
         self.triangles = solver.triangles
@@ -158,6 +169,7 @@ class ImagingMap(Belief):
         self._cache: dict = {}
         self._model_columns = _Columns(len(self.nodes))
         self._residual_columns = _Columns(len(self.nodes))
+        self._spread_columns = _Columns(len(self.nodes))
 
     @property
     def _g(self) -> np.ndarray:
@@ -209,7 +221,8 @@ class ImagingMap(Belief):
         other = copy.copy(self)
         ImagingMap.__init__(other, solver, self.sigma, strength=self.strength, combine=self.combine,
                             strength_range=self.strength_range, offset_sd=self.offset_sd,
-                            model_error=self.model_error if model_error is None else model_error)
+                            model_error=self.model_error if model_error is None else model_error,
+                            position_error=self.position_error)
         for z, reading, sat in zip(self.points, self.readings, self.saturated):
             other.add(z, float(reading), saturated=bool(sat))
         return other
@@ -267,10 +280,28 @@ class ImagingMap(Belief):
             self._cache["p"] = np.exp(-r * r)
         return self._cache["p"]
 
+    def position_variance(self) -> np.ndarray | None:
+        """``(rho_x |∇v_k|_x)^2`` at every node, shape (n_nodes, M), signal units²: the
+        variance of each predicted reading over the sources a node stands for (see
+        `position_error`); None without the term, and on a P2 solver (whose dofs are not
+        the mesh nodes the slope is taken at)."""
+        if not self.position_error or self.solver.order != 1:
+            return None
+        done = self._spread_columns
+        if done.m < self.n:      # the new readings' columns only (all after _clear)
+            if self._slope is None:     # per mesh: reset by __init__ (and so by on())
+                from ..fem.gradients import nodal_slope
+                self._slope = nodal_slope(self.solver)
+                self._rho2 = self._slope.node_areas / 6.0
+            new = self.model()[:, done.m:]
+            done.append(self._rho2[:, None] * self._slope(new) ** 2)
+        return done.array
+
     def _correlated_misfit(self, r: np.ndarray) -> np.ndarray:
         """:func:`~reciprocity.beliefs.combiners.correlated_misfit` of the residuals `r`
         over ``sigma`` (censoring applied), with this map's errors."""
-        return correlated_misfit(r, self.sigma, self.model(), self.model_error, self.offset_sd)
+        return correlated_misfit(r, self.sigma, self.model(), self.model_error, self.offset_sd,
+                                 self.position_variance())
 
     def _residuals(self) -> np.ndarray:
         """``(v_k - I_k) / sigma`` at every node; 0 where a saturated reading is

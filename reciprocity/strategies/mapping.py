@@ -271,8 +271,10 @@ class ShortfallImaging(ImagingMap):
             return super()._correlated_misfit(r)
         s2 = self.sigma ** 2 / 2.0
         v = self.model()
-        above = s2 + (self.model_error * v) ** 2
-        below = s2 + ((self.model_error + self.shortfall) * v) ** 2
+        extra = self.position_variance()
+        extra = 0.0 if extra is None else extra
+        above = s2 + (self.model_error * v) ** 2 + extra
+        below = s2 + ((self.model_error + self.shortfall) * v) ** 2 + extra
         e = r * self.sigma                                           # v_k - I_k, signal units
         d = np.where(e > 0, below, above)
         norm = np.sum(np.log((np.sqrt(below) + np.sqrt(above)) / (2.0 * np.sqrt(s2))), axis=1)

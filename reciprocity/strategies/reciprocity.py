@@ -22,7 +22,8 @@ __all__ = ["ReciprocityStrategy", "RULES", "PRESETS", "DEFAULTS", "axis_point", 
 PARAM_ORDER = ("preset", "rule", "reach", "eps", "area_tol", "extent_tol", "tail_tol", "d", "credible_radius",
                "credible_mass", "sigma", "sigma_used", "max_steps", "clearance", "combine", "strength",
                "strength_range", "max_sources", "more_tol", "survey_travel", "survey_reach", "model_error",
-               "strength_error", "survey", "model_error_used", "source_clearance", "source_clearance_used", "h")
+               "strength_error", "position_error", "survey", "model_error_used", "source_clearance",
+               "source_clearance_used", "h")
 #: What the strategy reads as its own from its parts: each part's settings (``s.eps``,
 #: ``s.rule``, ``s.sigma``, ...) and the mesh's state (``s.space``, ``s.solver``, ...).
 DELEGATED = {**{key: {"next_point": "next_point_rule"}.get(part, part) for part in ("reachability", "next_point",
@@ -58,6 +59,9 @@ class ReciprocityStrategy(Strategy):
         unknown one's log-uniform prior or per-point fit.
     model_error, strength_error : "estimate" or float, float
         Relative errors (fractions) of a predicted reading and of the stated strength.
+    position_error : bool
+        Score each reading with its variance over the sources a mesh node stands for
+        (:class:`~reciprocity.beliefs.imaging.ImagingMap`'s `position_error`).
     eps, area_tol, max_steps : float, float, int or None
         The region ``{P_M >= eps}`` (``0 < eps < 1``); stop once its area is below
         `area_tol` (cm²), or after `max_steps` readings (default 30; 60 for several sources).
@@ -99,7 +103,8 @@ class ReciprocityStrategy(Strategy):
                  h: float = 1.0, solver: GreenSolver | None = None, max_sources: int | None = None,
                  more_tol: float = MORE_TOL, survey_travel: float | None = None,
                  survey_reach: float | str = "reach", model_error: float | str = "estimate",
-                 strength_error: float = 0.0, survey: bool = True, source_clearance: float | str = "task"):
+                 strength_error: float = 0.0, survey: bool = True, source_clearance: float | str = "task",
+                 position_error: bool = True):
         super().__init__()
         p = settings(preset, dict(rule=rule, combine=combine, sigma=sigma, eps=eps, area_tol=area_tol,
                                   extent_tol=extent_tol, d=d, reach=reach, tail_tol=tail_tol,
@@ -108,6 +113,7 @@ class ReciprocityStrategy(Strategy):
         self.likelihood, self.combine, self.next_point_rule, self.stop_rule, self.reachability, self.several = \
             assemble(dict(p, max_steps=max_steps, clearance=clearance, strength=strength,
                           strength_range=strength_range, model_error=model_error, strength_error=strength_error,
+                          position_error=position_error,
                           max_sources=max_sources, more_tol=more_tol, survey_travel=survey_travel,
                           survey_reach=survey_reach))
         self.preset, self.max_steps = preset, self.stop_rule.cap(several=False)

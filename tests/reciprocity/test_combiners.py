@@ -71,3 +71,18 @@ def test_marginal_misfit_is_the_integral_over_the_log_uniform_prior():
         ref = -np.log(quad(f, lo, hi, points=np.geomspace(lo, hi, 30)[1:-1], limit=200)[0]) + \
             readings @ readings / sigma ** 2
         assert got[i] == pytest.approx(ref, abs=0.02)          # within the 24-cell rule's error
+
+
+def test_correlated_misfit_adds_the_extra_variances_on_the_diagonal():
+    """With ``extra`` (a candidate's position error), against the dense covariance
+    ``diag(d + extra) + b^2 11^T``."""
+    rng = np.random.default_rng(2)
+    sigma, model_error, b = 2.0, 0.05, 0.7
+    r, v, extra = rng.normal(size=(3, 4)), rng.uniform(5, 50, size=(3, 4)), rng.uniform(0, 9, size=(3, 4))
+    got = correlated_misfit(r, sigma, v, model_error, b, extra)
+    s2 = sigma ** 2 / 2
+    for i in range(3):
+        cov = np.diag(s2 + (model_error * v[i]) ** 2 + extra[i]) + b ** 2
+        e = r[i] * sigma
+        _, logdet = np.linalg.slogdet(cov / s2)
+        assert got[i] == pytest.approx(0.5 * e @ np.linalg.solve(cov, e) + 0.5 * logdet, rel=1e-10)

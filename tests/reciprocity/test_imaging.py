@@ -259,3 +259,27 @@ def test_gaussian_predictive_entropy_against_brute_force_quadrature():
     # 3-point Gauss-Hermite per mixture component: within 0.03 nats of the fine quadrature (0.013 measured)
     assert np.allclose(got, want, atol=0.03), (got, want)
 
+
+
+def test_position_error_makes_the_credible_region_cover_the_source():
+    """Noise-free readings of a source between the nodes of an h = 2 cm map, one of them
+    about 2 cm from it, scored with sigma for a noise of 1: without the position term the
+    95 % credible region misses the source's nodes in a fifth of 30 seeded draws; with it,
+    at most the 5 % (plus one draw of slack) a calibrated region may miss."""
+    geometry = arenas.load("empty").without_scenario()
+    coarse, fine = r.GreenSolver(geometry, h=2.0), r.GreenSolver(geometry, h=0.7)
+    rng = np.random.default_rng(0)
+    covered = {False: 0, True: 0}
+    n = 30
+    for _ in range(n):
+        src = np.array([60.0, 60.0]) + rng.uniform(-10, 10, 2)
+        u = fine.field(tuple(src), strength=850.0)
+        pts = [src + rng.normal(0, 2.0, 2), src + rng.normal(0, 6.0, 2), src + rng.normal(0, 6.0, 2)]
+        near = np.hypot(*(coarse.nodes - src).T) <= coarse.h
+        for pe in covered:
+            im = r.ImagingMap(coarse, sigma=np.sqrt(2.0), strength=850.0, combine="product", position_error=pe)
+            for z in pts:
+                im.add(z, float(u([z])[0]))
+            w = im.weights() / im.weights().sum()
+            covered[pe] += w[w > w[near].max()].sum() <= 0.95
+    assert covered[True] >= n - 2 and covered[False] <= n - 4

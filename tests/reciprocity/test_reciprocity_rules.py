@@ -161,7 +161,9 @@ def test_belief_out_of_reach_stops_with_its_probability(empty):
 def test_info_rule_statistics_on_empty(empty):
     """12 seeded episodes at h = 3 cm, noise 12, known strength: at least 10 succeed (at
     the measured rate of about 0.99 this fails with probability below 0.01; a rate of
-    0.8 would pass with probability 0.28) and the median needs at most 6 readings."""
+    0.8 would pass with probability 0.28) and the median needs at most 7 readings (6
+    without the likelihood's position term, which at h = 3 cm stands for a source up to
+    1.1 cm RMS from its node: 12 of 12 succeed with it, 11 without)."""
     arena, solver = empty
     rng = np.random.default_rng(11)
     ok, counts = 0, []
@@ -175,7 +177,7 @@ def test_info_rule_statistics_on_empty(empty):
         counts.append(ep.summary["n_measurements"])
     assert binom.cdf(9, 12, 0.99) < 0.01
     assert ok >= 10
-    assert np.median(counts) <= 6
+    assert np.median(counts) <= 7
 
 
 def test_the_likelihood_adds_its_error_terms_in_quadrature(empty):

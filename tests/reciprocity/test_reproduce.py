@@ -88,7 +88,9 @@ def test_paper_value_rejects_unknown_averaging():
 
 def test_success_averaging_none_values_and_after_hook(tmp_path, monkeypatch):
     """A tiny real campaign (empty arena, reciprocity h = 4, 6 steps at most: some runs
-    converge, some hit the cap), compared through :func:`reproduce`."""
+    converge, some hit the cap), compared through :func:`reproduce`. Without the
+    likelihood's position term: at h = 4 cm it keeps the region wider than ``area_tol``
+    for longer, and every run of these 8 would reach the cap."""
     called = []
 
     def after(directory, spec):
@@ -99,7 +101,8 @@ def test_success_averaging_none_values_and_after_hook(tmp_path, monkeypatch):
 
     table = PaperTable(
         name="tiny-test", title="tiny", reference="nobody (2026)",
-        build_spec=lambda runs: {"strategies": {"reciprocity": {"h": 4.0, "max_steps": 6}},
+        build_spec=lambda runs: {"strategies": {"reciprocity": {"h": 4.0, "max_steps": 6,
+                                                                 "position_error": False}},
                                  "scenarios": ["empty"], "seeds": runs},
         paper=(PaperValue("reciprocity", "steps", 5.0, among="success", row="ok only"),
                PaperValue("reciprocity", "steps", None, row="all"),

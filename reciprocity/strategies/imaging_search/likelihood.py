@@ -90,10 +90,14 @@ class Likelihood:
     strength_range : "decade" or "fit" or (float, float)
         With an unknown strength: the log-uniform prior's ``(lo, hi)`` (``"decade"``: a
         tenth to ten times the world's nominal strength), or ``"fit"`` per point.
+    position_error : bool
+        With a known strength and the product: a node stands for the sources in its area,
+        and each reading's variance over them is added
+        (:class:`~reciprocity.beliefs.imaging.ImagingMap`'s `position_error`).
     """
 
     def __init__(self, *, sigma="calibrated", model_error: float | str = "estimate", strength_error: float = 0.0,
-                 strength="arena", strength_range="decade"):
+                 strength="arena", strength_range="decade", position_error: bool = True):
         if sigma not in SIGMA_RULES and (isinstance(sigma, str) or not np.isfinite(sigma) or sigma <= 0):
             raise SearchError(f"sigma must be a positive number or one of {SIGMA_RULES}; got {sigma!r}")
         self.sigma = sigma if sigma in SIGMA_RULES else float(sigma)
@@ -107,6 +111,9 @@ class Likelihood:
             raise SearchError(f"strength_error must be a fraction in [0, 1); got {strength_error!r}")
         self.strength_error = float(strength_error)
         self.strength = strength
+        if not isinstance(position_error, bool):
+            raise SearchError(f"position_error must be true or false; got {position_error!r}")
+        self.position_error = position_error
 
     def reading_sigma(self, nominal: dict) -> float:
         """``sigma`` of eq. (7) for a world described by `nominal` (signal units)."""
@@ -132,7 +139,8 @@ class Likelihood:
         units), and the relative errors of a predicted reading, each a fraction, added in
         quadrature (:data:`RELATIVE_TERMS`): the belief's discretisation (estimated from
         `solver`), the platform's model (the car's floor print and sensor curve), the
-        stated strength. `sigma` is eq. (7)'s in use."""
+        stated strength. `sigma` is eq. (7)'s in use. :meth:`belief` adds ``position``,
+        the RMS distance (cm) from a source to its node, when that term is on."""
         terms = {"noise": sigma / np.sqrt(2.0), "offset": float(offset)}
         if not isinstance(self.model_error, str):
             terms["fixed"] = float(self.model_error)
@@ -172,8 +180,12 @@ class Likelihood:
         terms = self.error_terms(nominal, offset, solver, sigma) if product else {}
         model_error = float(np.sqrt(sum(v * v for k, v in terms.items() if k in RELATIVE_TERMS)))
         used = widen(model_error) if widen is not None and product else model_error
+        position = product and self.position_error
         imaging = ImagingMap(solver, sigma, strength=c, combine=combine, strength_range=prior,
-                             offset_sd=offset, model_error=used)
+                             offset_sd=offset, model_error=used, position_error=position)
+        if position:   # the RMS distance (cm) from a source to the node that stands for it
+            from ...fem.gradients import nodal_slope
+            terms["position"] = float(np.sqrt(np.median(nodal_slope(solver).node_areas) / 6.0))
         return Scoring(imaging, sigma, terms, model_error, c)
 
     def params(self) -> dict:
@@ -182,7 +194,8 @@ class Likelihood:
                     else float(self.strength),
                     strength_range=self.strength_range if isinstance(self.strength_range, str)
                     else list(self.strength_range),
-                    model_error=self.model_error, strength_error=self.strength_error)
+                    model_error=self.model_error, strength_error=self.strength_error,
+                    position_error=self.position_error)
 
 
 def _strength_range(value):

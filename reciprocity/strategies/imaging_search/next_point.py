@@ -289,41 +289,45 @@ class NextPointRule:
             out[idx] = mass_within_reach(nodes[idx], nodes, w, self.reach)
         return out
 
+    def _predicted(self, im: ImagingMap, allowed: np.ndarray, support: int):
+        """`support` belief points drawn on the lattice and their predicted readings at the
+        admissible lattice points: ``(weights, candidate points cm, means)``, means of shape
+        (candidates, support points) ``c_i G(y, x_i)`` by reciprocity; None when the belief
+        sits in one lattice cell or no lattice point is admissible."""
+        lat = self._lattice
+        mass = np.bincount(lat.anchor, im.weights(), minlength=len(lat.nodes))
+        anchors, w = systematic_support(mass, support, self.rng)
+        cand = np.flatnonzero(allowed[lat.nodes])
+        if anchors.size < 2 or cand.size == 0:
+            return None
+        c = im.strength_map()[lat.nodes[anchors]]
+        return w, lat.points[cand], lat.columns(anchors)[cand] * c[None, :]
+
     def _info_point(self, im: ImagingMap, allowed: np.ndarray, noise: float) -> tuple[np.ndarray | None, float]:
         """The ``"info"`` rule: the admissible lattice point of least expected entropy and
         the expected gain (nats); ``(None, 0)`` when the belief sits in one lattice cell or
         no lattice point is admissible."""
-        lat = self._lattice
-        mass = np.bincount(lat.anchor, im.weights(), minlength=len(lat.nodes))
-        anchors, w = systematic_support(mass, INFO_SUPPORT, self.rng)
-        cand = np.flatnonzero(allowed[lat.nodes])
-        if anchors.size < 2 or cand.size == 0:
+        got = self._predicted(im, allowed, INFO_SUPPORT)
+        if got is None:
             return None, 0.0
-        c = im.strength_map()[lat.nodes[anchors]]
-        means = lat.columns(anchors)[cand] * c[None, :]               # c_i G(y, x_i), reciprocity
+        w, pts, means = got
         if INFO_SCORE == "mi":
             gain = mutual_information(means, w, noise)
         else:
             gain = -w @ np.log(w) - expected_entropy(means, w, noise)
         best = int(np.argmax(gain))
-        return lat.points[cand[best]].copy(), float(gain[best])
+        return pts[best].copy(), float(gain[best])
 
     def _lookahead_point(self, im: ImagingMap, allowed: np.ndarray, noise: float
                          ) -> tuple[np.ndarray | None, float]:
         """The ``"lookahead"`` rule: the admissible lattice point of least expected entropy
         two readings ahead and that gain (nats); ``(None, 0)`` as :meth:`_info_point`."""
-        lat = self._lattice
-        mass = np.bincount(lat.anchor, im.weights(), minlength=len(lat.nodes))
-        anchors, w = systematic_support(mass, LOOKAHEAD_SUPPORT, self.rng)
-        cand = np.flatnonzero(allowed[lat.nodes])
-        if anchors.size < 2 or cand.size == 0:
+        got = self._predicted(im, allowed, LOOKAHEAD_SUPPORT)
+        if got is None:
             return None, 0.0
-        c = im.strength_map()[lat.nodes[anchors]]
-        means = lat.columns(anchors)[cand] * c[None, :]               # c_i G(y, x_i), reciprocity
-        one = expected_entropy(means, w, noise)
-        order = np.argsort(one, kind="stable")
+        w, pts, means = got
+        order = np.argsort(expected_entropy(means, w, noise), kind="stable")
         first, second = order[:LOOKAHEAD_FIRST], order[:LOOKAHEAD_SECOND]
-        pts = lat.points[cand]
         gap = np.hypot(*(pts[first][:, None, :] - pts[second][None, :, :]).transpose(2, 0, 1))
         two = two_step_entropy(means[first], means[second], w, noise, apart=gap >= self.d)
         best = int(np.argmin(two))

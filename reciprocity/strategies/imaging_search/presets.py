@@ -47,7 +47,8 @@ PARTS = {"stop_rule": ("eps", "area_tol", "extent_tol", "tail_tol", "credible_ra
                        "max_steps"),
          "next_point": ("rule", "d", "reach"),
          "reachability": ("reach", "clearance"),
-         "likelihood": ("sigma", "model_error", "strength_error", "strength", "strength_range"),
+         "likelihood": ("sigma", "model_error", "strength_error", "strength", "strength_range",
+                        "position_error"),
          "several": ("max_sources", "more_tol", "survey_travel", "survey_reach"),
          "combine": ("combine",)}
 
