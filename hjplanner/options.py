@@ -44,7 +44,7 @@ class SolverOptions:
         cores.  :class:`ValueFunctionBank` runs one thread per process.
     """
 
-    def __init__(self, turn_steps: tuple[int, ...] = (1, 2, 3, 4), straight_cells: tuple[float, ...] = (3.0,),
+    def __init__(self, turn_steps: tuple[int, ...] = (1, 2, 3, 6), straight_cells: tuple[float, ...] = (3.0,),
                  local_radius: float = 2.0, exact_radius: float = 0.0, sweep_tol: float = 0.05,
                  max_sweeps: int = 500, threads: int | None = None):
         self.turn_steps = tuple(int(m) for m in turn_steps)

@@ -18,12 +18,14 @@ def _turning_radius_respected(path, rho):
 
 
 def test_path_length_agrees_with_phi(reference_vf, reference_sample):
-    """Path length (plus the final gap to the target) against φ(start), start distances 0.3-0.95.
+    """Path length (plus the final gap to the target) against φ(start) and the exact distance, 0.3-0.95.
 
-    Measured on 40 poses: median |difference| 0.0013, 35 of 40 within 0.02.
-    The path is never longer than φ(start) by more than 0.02; where it is
-    shorter the start lies next to a discontinuity of φ (the interpolant
-    smears it upwards) and the path is then close to the exact distance.
+    Measured on 40 poses (turning stencils (1, 2, 3, 6)): no path is more than 0.008 longer
+    than the exact optimum; median |path - φ(start)| 0.0010, 36 of 40 within 0.02.  The
+    four larger differences (up to 0.15) are starts next to a discontinuity of φ, where
+    the interpolant smears the jump and φ(start) itself is off the exact distance by
+    0.011-0.154 while the path is within 0.008 of it; on the 34 starts where φ reads the
+    exact distance to 0.01 the path agrees with φ to 0.0065.
     """
     poses, exact = reference_sample
     chosen, exact = poses[exact > 0.3][:40], exact[exact > 0.3][:40]
@@ -37,8 +39,11 @@ def test_path_length_agrees_with_phi(reference_vf, reference_sample):
         predicted.append(path.value_start)
     driven, predicted = np.array(driven), np.array(predicted)
     gaps = driven - predicted
-    assert gaps.max() < 0.02
     assert (driven >= exact - 0.01).all()  # no path beats the exact optimum
+    assert (driven - exact).max() < 0.02  # nor is longer than it by more than a grid step
+    where_phi_is_exact = np.abs(predicted - exact) < 0.01
+    assert where_phi_is_exact.sum() >= 30
+    assert np.abs(gaps[where_phi_is_exact]).max() < 0.02
     assert np.median(np.abs(gaps)) < 0.005
     assert np.mean(np.abs(gaps) < 0.03) >= 0.85
 
