@@ -13,7 +13,7 @@ import numpy as np
 from . import _sweep
 from ._grid import Grid, domain_geometry, lower_wall_distance, make_grid
 from ._motion import arc_samples, arc_step, first_hits, sample_spacing
-from .dubins import local_exact
+from ._search import exact_layer
 from .errors import PlanningError
 from .limits import check_grid, length
 from .options import SolverOptions
@@ -234,8 +234,9 @@ def _boundary_data(ws: Workspace, target, tol: float) -> tuple[np.ndarray, float
         r0 = max(clear - ws.clearance, grid.h)
     near = np.nonzero(free & (dist <= r0))
     # every heading at once: (ntheta, nodes near the target)
-    bc[:, near[0], near[1]] = local_exact(gx[near][None, :], gy[near][None, :], grid.theta[:, None], (tx, ty),
-                                          ws.rho, r0, ws.reverse)
+    exact_layer(bc, near[0], near[1], np.ascontiguousarray(gx[near]), np.ascontiguousarray(gy[near]),
+                np.ascontiguousarray(grid.theta, dtype=float), float(tx), float(ty), float(ws.rho), float(r0),
+                bool(ws.reverse))
     if constrained:
         bc = np.minimum(bc, _first_hits(ws, gx, gy, dist, target, 0.5 * grid.h))
     return bc, float(r0)

@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike
 
 from . import _sweep
 from ._grid import Grid, lower_wall_distance
-from .dubins import local_exact
+from ._search import local_exact_many
 from .errors import PlanningError
 
 __all__ = ["ValueFunction"]
@@ -163,7 +163,10 @@ class ValueFunction:
             # interpolant across the thin valley of φ around the target.
             near = np.hypot(x - self.target[0], y - self.target[1]) <= r0
             if near.any():
-                exact = local_exact(x[near], y[near], theta[near], self.target, self.rho, r0, self.reverse)
+                exact = local_exact_many(np.ascontiguousarray(x[near], dtype=float),
+                                         np.ascontiguousarray(y[near], dtype=float),
+                                         np.ascontiguousarray(theta[near], dtype=float), float(self.target[0]),
+                                         float(self.target[1]), float(self.rho), r0, bool(self.reverse))
                 out[near] = np.minimum(out[near], exact)
         return out
 

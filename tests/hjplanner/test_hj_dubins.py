@@ -112,3 +112,30 @@ def test_target_dead_ahead_is_robust_to_round_off():
     # psi = -π/2 - 1e-17 must mean "no turn", not a full loop
     assert point_distance(-0.07999999999999999, 0.0, 0.0, RHO) == pytest.approx(0.08, abs=1e-12)
     assert point_distance(-0.3 + 1e-16, 1e-17, 0.0, RHO) == pytest.approx(0.3, abs=1e-12)
+
+
+@pytest.mark.parametrize("reverse", [False, True])
+@pytest.mark.parametrize("r0", [0.25, 0.6])   # below and above πρ/2, where poses are ruled out unsolved
+def test_compiled_exact_layer_matches_numpy(reverse, r0):
+    """The solver's exact initial layer and the value function's reads near the target use
+    the compiled kernels; they agree with the numpy reference to round-off, +inf alike."""
+    from hjplanner._search import exact_layer, local_exact_many
+    from hjplanner.dubins import local_exact
+
+    rng = np.random.default_rng(7)
+    x, y = rng.uniform(-0.7, 0.7, 3000), rng.uniform(-0.7, 0.7, 3000)
+    theta = rng.uniform(-np.pi, 3 * np.pi, 3000)
+    rho, target = 0.3, (0.03, -0.02)
+    want = local_exact(x, y, theta, target, rho, r0, reverse)
+    got = local_exact_many(x, y, theta, *target, rho, r0, reverse)
+    assert np.array_equal(np.isinf(got), np.isinf(want)) and np.isinf(want).any() and np.isfinite(want).any()
+    np.testing.assert_allclose(got[np.isfinite(want)], want[np.isfinite(want)], rtol=0, atol=1e-12)
+    headings = np.linspace(0.0, 2 * np.pi, 16, endpoint=False)
+    ii, jj = np.arange(50), np.arange(50)[::-1].copy()
+    bc = np.full((16, 50, 50), np.inf)
+    exact_layer(bc, ii, jj, x[:50], y[:50], headings, *target, rho, r0, reverse)
+    layer = local_exact(x[:50][None, :], y[:50][None, :], headings[:, None], target, rho, r0, reverse)
+    finite = np.isfinite(layer)
+    assert np.array_equal(np.isfinite(bc[:, ii, jj]), finite)
+    np.testing.assert_allclose(bc[:, ii, jj][finite], layer[finite], rtol=0, atol=1e-12)
+    assert np.isinf(np.delete(bc.reshape(16, -1), ii * 50 + jj, axis=1)).all()
