@@ -80,8 +80,8 @@ def local_exact(x, y, theta, tx, ty, rho, r0, reverse):
     answered without solving: at arc length ``t`` a path has turned by at most
     ``t/ρ``, so after a length ``L <= πρ/2`` it has advanced at least ``ρ sin(L/ρ)``
     along its first heading, and ``L >= d`` (the distance to the target). A target
-    less than ``ρ sin(d/ρ)`` ahead (behind, for reverse driving) is out of the layer:
-    the same answer as solving, 3 times faster over the reference grid's layer.
+    less than ``ρ sin(d/ρ)`` ahead (behind, for reverse driving) is out of the layer,
+    the same answer as solving it would give.
     """
     dx, dy = tx - x, ty - y
     d = np.hypot(dx, dy)
