@@ -256,9 +256,30 @@ def _update_layer(phi, tmin, k, off_i, off_j, w, inv_self, kk, src, cost, adm, r
     return n_blocks, clock
 
 
+def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach, threads=1):
+    """Bitmask (ntheta, nx, ny) of the stencils whose arc is clear of the walls (see
+    :func:`_stencil_mask_rows`), computed by ``threads`` threads (at most :data:`GROUPS`),
+    each taking every ``threads``-th row of nodes: rows near the walls cost the most, and
+    interleaved rows share them evenly.  Each node's bits depend on that node alone, so
+    the result is the same bits for any number of threads.
+    """
+    nt = ci.shape[0]
+    nx, ny = distance.shape
+    adm = np.zeros((nt, nx, ny), np.uint32)
+    args = (distance, free, float(clearance), ci, cj, corner_dist, margin, reach, adm)
+    threads = max(1, min(int(threads), GROUPS, nx))
+    if threads == 1:
+        _stencil_mask_rows(*args, 0, 1)
+        return adm
+    with ThreadPoolExecutor(threads) as pool:       # the kernel releases the GIL
+        list(pool.map(lambda first: _stencil_mask_rows(*args, first, threads), range(threads)))
+    return adm
+
+
 @njit(cache=True, nogil=True)
-def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach):
-    """Bitmask (ntheta, nx, ny) of the stencils whose arc is clear of the walls.
+def _stencil_mask_rows(distance, free, clearance, ci, cj, corner_dist, margin, reach, adm, first, step):
+    """Write into ``adm`` (ntheta, nx, ny) the bitmask of the stencils whose arc is clear of the
+    walls, for the rows ``first, first + step, ...`` of nodes.
 
     Bit c of ``adm[k, i, j]`` is set when the arc of control c from the free
     node (i, j) at heading k stays at the clearance: either the node is
@@ -278,12 +299,11 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
     """
     nt, nc, nm = ci.shape
     nx, ny = distance.shape
-    adm = np.zeros((nt, nx, ny), np.uint32)
     every = np.uint32((1 << nc) - 1)
     far = clearance + reach.max()
     mid = (nm - 1) // 2
     half = (nm - 1 - mid) / (nm - 1)  # arc length from the middle sample to the farther end / reach
-    for i in range(nx):
+    for i in range(first, nx, step):
         for j in range(ny):
             if not free[i, j]:
                 continue
@@ -349,7 +369,6 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach)
                     if ok:
                         bits |= np.uint32(1) << np.uint32(c)
                 adm[k, i, j] = bits
-    return adm
 
 
 @njit(cache=True, nogil=True)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import threading
 import time
 import warnings
@@ -85,9 +86,18 @@ def prepare(domain, rho: float, h: float, ntheta: int, *, clearance: float = 0.0
     options = options or SolverOptions()
     grid, distance, free = make_grid(domain, float(h), int(ntheta), float(clearance))
     ctrl = options.controls(float(rho), grid, reverse)
-    stencils = build_stencils(float(rho), grid, ctrl, distance, free, float(clearance))
+    stencils = build_stencils(float(rho), grid, ctrl, distance, free, float(clearance), mask_threads(options))
     return Workspace(grid, distance, free, domain_geometry(domain), float(rho), float(clearance), bool(reverse),
                      options, ctrl, stencils)
+
+
+def mask_threads(options: SolverOptions) -> int:
+    """Threads that compute the clear-arc masks: ``options.threads`` when set, else one per
+    core up to :data:`hjplanner._sweep.GROUPS` (each node's bits are its own, so the masks
+    are the same bits for any number, and they scale where the coupled sweeps do not)."""
+    if options.threads is not None:
+        return max(1, int(options.threads))
+    return max(1, min(_sweep.GROUPS, os.cpu_count() or 1))
 
 
 #: Prepared workspaces kept per process by :func:`prepared` (one is a few MB: the clear-arc
@@ -123,7 +133,7 @@ def prepared(domain, rho: float, h: float, ntheta: int, *, clearance: float = 0.
 
 
 def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], distance: np.ndarray,
-                   free: np.ndarray, clearance: float) -> dict:
+                   free: np.ndarray, clearance: float, threads: int = 1) -> dict:
     """Per (layer, control): foot offsets, bilinear corner weights, landing layer, cost; clear-arc bitmasks.
 
     The foot of stencil c from node (i, j, θ_k) lies in the cell whose lower
@@ -132,7 +142,8 @@ def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], d
     on the node itself is moved to the left-hand side: ``inv_self = 1/(1 - w_self)``.
     ``adm`` (ntheta, nx, ny) is the bitmask of
     :func:`hjplanner._sweep.stencil_masks`: the arcs clear of the walls, at
-    the samples also used by :func:`hjplanner._motion.arcs_are_clear`.
+    the samples also used by :func:`hjplanner._motion.arcs_are_clear`, computed
+    by ``threads`` threads (the same bits for any number).
     """
     theta = grid.theta
     nt, nc = grid.ntheta, len(ctrl)
@@ -159,7 +170,7 @@ def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], d
                 w[k, c, corner] = 0.0
     pad = int(max(np.abs(off_i).max(), np.abs(off_j).max())) + 2
     ci, cj, corner_dist, margin = arc_sample_cells(rho, grid, ctrl, clearance)
-    adm = _sweep.stencil_masks(distance, free, float(clearance), ci, cj, corner_dist, margin, s)
+    adm = _sweep.stencil_masks(distance, free, float(clearance), ci, cj, corner_dist, margin, s, threads)
     # Visit each layer against its forward straight motion (see _sweep).
     rev_i = np.cos(theta) >= 0
     rev_j = np.sin(theta) >= 0

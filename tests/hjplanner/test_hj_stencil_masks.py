@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import arenas
-from hjplanner import solver
+from hjplanner import SolverOptions, _sweep, solver
 from hjplanner._motion import arc_step
 
 #: Headings checked per case (a spread over the turn; every heading would only repeat the work).
@@ -92,3 +92,23 @@ def test_every_admitted_arc_keeps_the_clearance_from_the_true_walls(case):
             assert inside.all() and distance.min() >= ws.clearance - 1e-9
             checked += len(pick)
     assert checked > 100
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_masks_are_the_same_bits_on_one_thread_and_on_two(case):
+    """The masks are computed row by row, each node's bits its own: two threads taking
+    alternate rows give every bit one thread gives, on every case."""
+    ws = CASES[case]()
+    ci, cj, corner_dist, margin = solver.arc_sample_cells(ws.rho, ws.grid, ws.ctrl, ws.clearance)
+    reach = np.array([s for _, _, s in ws.ctrl], dtype=float)
+    one, two = (_sweep.stencil_masks(ws.distance, ws.free, ws.clearance, ci, cj, corner_dist, margin, reach, t)
+                for t in (1, 2))
+    assert one.dtype == two.dtype == np.uint32 and one.any()
+    np.testing.assert_array_equal(one, two)
+    np.testing.assert_array_equal(one, ws.stencils["adm"])
+
+
+def test_mask_threads_follow_the_options():
+    assert solver.mask_threads(SolverOptions(threads=1)) == 1
+    assert solver.mask_threads(SolverOptions(threads=2)) == 2
+    assert 1 <= solver.mask_threads(SolverOptions()) <= _sweep.GROUPS
