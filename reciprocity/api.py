@@ -15,12 +15,13 @@ import numpy as np
 
 from arenas import Arena
 
-from .env.spec import (EpisodeSpec, check_team, checked_agents, checked_options, checked_platform,
+from .env.spec import (EpisodeSpec, check_team, checked_agents, checked_options_and_limits, checked_platform,
                        checked_seed)
 from .episode import Episode
 from .errors import SearchError
 from .scenarios import Scenario, load_scenario
 from .strategies import STRATEGIES, Strategy
+from .strategies.agent import with_limits
 from .strategies.parameter_bounds import STRATEGY_BOUNDS
 from .validation import check_bounds
 
@@ -125,10 +126,11 @@ def check(scenario: str | Scenario | Arena | EpisodeSpec, strategy: str, *, para
     check_team(sc, n)
     params = dict(params or {})
     _checked_params(cls, strategy, params)
-    built = _built(cls, strategy, params)
-    options = checked_options(sc, plat, platform_options)
+    options, limits = checked_options_and_limits(sc, plat, platform_options)
+    build = with_limits(cls, params, limits)        # as the agent will, so that it is built once
+    built = _built(cls, strategy, build)
     spec = EpisodeSpec(sc, plat, n, options, strategy, cls, params, seeds)
-    spec._built.append(built)
+    spec._built.append((built, build))
     return spec
 
 

@@ -80,8 +80,9 @@ class EpisodeSpec:
     strategy_class: type | None = None
     params: Mapping[str, Any] = field(default_factory=dict)
     seeds: tuple[int, ...] = ()
-    # the strategy that checking its parameters built: handed to the first agent that
-    # asks for it with the same parameters, so that a run builds its strategy once
+    # the strategy that checking its parameters built, with the parameters it was built
+    # with (the spec's and the platform limits known at the check): handed to the first
+    # agent that asks for it with equal parameters, so that a run builds its strategy once
     _built: list = field(default_factory=list, compare=False, repr=False)
 
     def __post_init__(self):
@@ -95,11 +96,11 @@ class EpisodeSpec:
         return self.scenario.name
 
     def take_strategy(self, params: Mapping[str, Any]):
-        """The strategy built while checking, once, when `params` (the spec's, with what
-        the task adds) add no key to the spec's parameters; else None (the caller builds
-        its own)."""
-        if self._built and set(params) == set(self.params):
-            return self._built.pop()
+        """The strategy built while checking, once, when `params` (the spec's, with the
+        limits the task adds) equal those it was built with, key for key and value for
+        value; else None (the caller builds its own)."""
+        if self._built and _same_params(params, self._built[-1][1]):
+            return self._built.pop()[0]
         return None
 
     def with_scenario(self, scenario: Scenario) -> "EpisodeSpec":
@@ -108,6 +109,23 @@ class EpisodeSpec:
         :meth:`Scenario.with_world`)."""
         return EpisodeSpec(scenario, self.platform, self.agents, self.platform_options, self.strategy,
                            self.strategy_class, self.params, self.seeds)
+
+
+def _same_params(a: Mapping[str, Any], b: Mapping[str, Any]) -> bool:
+    """Whether two parameter sets have the same keys and each the same value (the same
+    object, or equal numbers and strings; anything that compares otherwise is not)."""
+    if set(a) != set(b):
+        return False
+    for key, value in a.items():
+        other = b[key]
+        if value is other:
+            continue
+        try:
+            if not (type(value) is type(other) and bool(value == other)):
+                return False
+        except (TypeError, ValueError):                 # arrays and the like
+            return False
+    return True
 
 
 def checked_platform(sc: Scenario, platform: str | None) -> str:
@@ -130,11 +148,20 @@ def check_team(sc: Scenario, n: int) -> None:
 
 def checked_options(sc: Scenario, platform: str, options: dict | None) -> dict:
     """The platform's options, checked (the car's against its keys and the arena)."""
+    return checked_options_and_limits(sc, platform, options)[0]
+
+
+def checked_options_and_limits(sc: Scenario, platform: str, options: dict | None) -> tuple[dict, dict]:
+    """:func:`checked_options`, and the task limits they fix before any episode: on the
+    car its ``clearance`` (cm), the value :class:`~reciprocity.env.SearchEnv` puts in
+    every episode's ``Task.limits``. (The sensor's ``i_max`` comes from the episode's
+    calibrated floor, so only an episode knows it.)"""
     options = dict(options or {})
     if platform == "car":
         from ..platforms.car import check_car_options
-        check_car_options(dict(options), sc.arena)
-    return options
+        driving = check_car_options(dict(options), sc.arena)[0]
+        return options, {"clearance": float(driving.clearance)}
+    return options, {}
 
 
 def environment_spec(scenario, *, platform: str | None = None, agents: int | None = None,

@@ -31,7 +31,8 @@ class StrategyAgent:
     params : dict, optional
         The strategy's parameters (with a class). The task's platform limits (the car's
         ``clearance``, the sensor's ``i_max``) fill those the strategy accepts and `params`
-        leaves out.
+        leaves out (:func:`with_limits`); those in its ``start_limits`` reach it through
+        :attr:`~reciprocity.strategies.base.SearchContext.limits` when it starts.
     figures : bool
         Keep what the figures draw of the strategy's belief (its
         :meth:`~reciprocity.strategies.base.Strategy.figure_record`) in the report; on an
@@ -56,13 +57,11 @@ class StrategyAgent:
 
     def reset(self, task: Task, seed: np.random.SeedSequence) -> None:
         if isinstance(self._factory, Strategy):
-            strategy = self._factory
+            strategy, late = self._factory, {}                  # its parameters as given
         else:
-            params = dict(self._params)
-            accepted = _accepted(self._factory)
-            for key, value in task.limits.items():
-                if key in accepted:
-                    params.setdefault(key, value)
+            params = with_limits(self._factory, self._params, task.limits)
+            late = {key: value for key, value in task.limits.items()
+                    if key in self._factory.start_limits and key not in self._params}
             built = self._spec.take_strategy(params) if self._spec is not None else None
             strategy = built if built is not None else self._factory(**params)
         if self._spec is None:
@@ -71,7 +70,7 @@ class StrategyAgent:
         self.messages = MessageLog()
         self._percepts: list[Percept] = []                      # for the figures' records only
         strategy.start(SearchContext(task.world, task.nominal, np.array(task.starts),
-                                     np.random.default_rng(seed), self.messages, tuple(task.intents)))
+                                     np.random.default_rng(seed), self.messages, tuple(task.intents), late))
         if task.reachable is not None:
             for _ in range(task.n_agents):
                 strategy.restrict(task.reachable)
@@ -134,3 +133,15 @@ def _array(value) -> np.ndarray | None:
 def _accepted(cls) -> set[str]:
     """The keyword parameters of strategy class `cls`."""
     return {p.name for p in inspect.signature(cls.__init__).parameters.values() if p.kind is p.KEYWORD_ONLY}
+
+
+def with_limits(cls: type, params, limits) -> dict:
+    """`params` with the platform `limits` that strategy class `cls` takes as parameters
+    and `params` leaves out: those it accepts, but not its ``start_limits`` (which it
+    reads when it starts). The one rule for a checked spec's build and an agent's."""
+    out = dict(params or {})
+    accepted = _accepted(cls)
+    for key, value in limits.items():
+        if key in accepted and key not in cls.start_limits:
+            out.setdefault(key, value)
+    return out

@@ -9,6 +9,7 @@ records. It never sees the world or the true poses.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -43,6 +44,10 @@ class SearchContext:
     intents : tuple of str
         The intents the platform takes, by name (the task's ``intents``); empty when not
         told, and then a strategy asks only for what every platform of its world takes.
+    limits : Mapping
+        The task's platform limits named in the strategy's :attr:`Strategy.start_limits`
+        that its parameters left unset (e.g. the car sensor's ``i_max``, known only once
+        the episode's floor is calibrated); empty otherwise.
     """
 
     world: str
@@ -51,6 +56,7 @@ class SearchContext:
     rng: np.random.Generator
     messages: MessageLog = field(default_factory=MessageLog)
     intents: tuple = ()
+    limits: Mapping = field(default_factory=dict)
 
     @property
     def n_agents(self) -> int:
@@ -92,12 +98,19 @@ class Strategy(ABC):
         Kinds of :data:`~reciprocity.observations.SENSING_KINDS` (e.g. ``"scan"``) it
         reads; the others are taken out of its observations before :meth:`observe`, so a
         strategy that does not map never sees a scan.
+    start_limits : tuple of str
+        Task limits (``Task.limits``) that the strategy takes from
+        :attr:`SearchContext.limits` when it starts, where its parameter of that name was
+        left unset, rather than as a parameter when it is built: limits that differ from
+        episode to episode, so that one strategy, built and checked once, serves the run.
+        The other limits it accepts as parameters fill them when it is built.
     """
 
     name: str = "strategy"
     worlds: tuple = ("poisson",)
     agents: int | None = 1
     senses: tuple = ()
+    start_limits: tuple = ()
 
     def __init__(self) -> None:
         self._reset_state()

@@ -109,6 +109,7 @@ class GradientStrategy(Strategy):
     """
 
     name = "gradient"
+    start_limits = ("i_max",)     # the car's calibrated range: one per episode's floor
 
     def __init__(self, *, i_min: float = 18.0, i_max: float | None = None,
                  stop_radius: float = 3.0, d: float = 15.0,
@@ -144,6 +145,12 @@ class GradientStrategy(Strategy):
 
     def start(self, ctx: SearchContext) -> None:
         self._reset_state()
+        if "i_max" in ctx.limits:                       # left unset: the platform's
+            i_max = float(ctx.limits["i_max"])
+            if not self.i_min < i_max:
+                raise SearchError(f"need 0 <= i_min < i_max; got i_min={self.i_min!r}, i_max={i_max!r} "
+                                  "(the platform's)")
+            self.i_max = i_max
         arena, pose = ctx.arena, ctx.start
         geometry = arena.without_scenario()
         if self.space is None or self.space.arena is not geometry:

@@ -11,6 +11,7 @@ from reciprocity.env import SearchEnv
 from reciprocity.errors import SearchError
 from reciprocity.scenarios import Scenario
 from reciprocity.strategies import STRATEGIES
+from reciprocity.strategies.agent import StrategyAgent
 
 #: A cheap episode: a few random steps on the lattice.
 SCENARIO, STRATEGY, PARAMS = "ristic-lattice", "random-walk", {"n_steps": 3}
@@ -49,6 +50,40 @@ def test_a_run_checks_its_scenario_once_and_builds_its_strategy_once(monkeypatch
     again = api.run(SCENARIO, STRATEGY, params=PARAMS, seed=0)       # the one-call form: the same
     assert len(built) == 2 and len(observers) == 2
     assert again.summary["estimate"] == episode.summary["estimate"]
+
+
+@pytest.mark.parametrize("strategy, given", [
+    ("reciprocity", {}), ("reciprocity", {"clearance": 2.0}),
+    ("gradient", {}), ("gradient", {"clearance": 2.0, "i_max": 500.0}),
+])
+def test_on_the_car_the_strategy_is_built_once_with_the_platforms_limits(monkeypatch, strategy, given):
+    """The car's clearance is known at the check and fills the strategy's parameter there;
+    the sensor's i_max, known once the episode's floor is calibrated, reaches the gradient
+    when it starts. Either way the agent takes the one strategy the check built, and a
+    parameter the user gave is never overridden."""
+    built = _count(monkeypatch, STRATEGIES[strategy], "__init__")
+    spec = api.check("paper", strategy, params=given, platform="car", platform_options={"clearance": 5.0},
+                     seeds=0)
+    _, info = SearchEnv(spec).reset(seed=0)
+    agent = StrategyAgent(spec)
+    agent.reset(info["task"], info["agent_seed"])
+    limits = info["task"].limits
+    assert limits["clearance"] == 5.0 and limits["i_max"] > 0
+    assert len(built) == 1
+    assert agent.strategy.clearance == given.get("clearance", 5.0)
+    if strategy == "gradient":
+        assert agent.strategy.i_max == given.get("i_max", limits["i_max"])
+        assert agent.strategy.params()["i_max"] == agent.strategy.i_max
+
+
+def test_a_strategy_built_by_hand_keeps_its_parameters_as_given():
+    """A strategy handed over already built is not told the platform's limits."""
+    strategy = STRATEGIES["gradient"](h=2.0)
+    spec = api.check("paper", "gradient", platform="car", seeds=0)
+    _, info = SearchEnv(spec).reset(seed=0)
+    agent = StrategyAgent(strategy)
+    agent.reset(info["task"], info["agent_seed"])
+    assert agent.strategy is strategy and strategy.i_max is None and strategy.clearance == 3.0
 
 
 def test_the_old_forms_give_the_same_messages():
