@@ -127,7 +127,7 @@ def check(scenario: str | Scenario | Arena | EpisodeSpec, strategy: str, *, para
     params = dict(params or {})
     _checked_params(cls, strategy, params)
     options, limits = checked_options_and_limits(sc, plat, platform_options)
-    build = with_limits(cls, params, limits)        # as the agent will, so that it is built once
+    build = with_limits(cls, params, limits) if limits else params    # as the agent will: built once
     built = _built(cls, strategy, build)
     spec = EpisodeSpec(sc, plat, n, options, strategy, cls, params, seeds)
     spec._built.append((built, build))
