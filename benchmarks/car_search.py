@@ -20,7 +20,8 @@ simulated seconds per second of computing (``speed``).
     reciprocity campaign benchmarks/search_car_both.yaml --out car_campaign
     python benchmarks/car_search.py --from-campaign car_campaign --out benchmarks/car_search/campaign.csv
 
-``--minutes M`` stops starting new draws after M minutes. ``--only unreachable`` runs only
+``--world KEY=VALUE`` sets a key of every draw's world (``map=unknown``: the car maps the
+walls with its lidar). ``--minutes M`` stops starting new draws after M minutes. ``--only unreachable`` runs only
 the draws whose source the evaluator judges out of the car's reach (judged at reset; the
 rest are skipped), and ``--set KEY=VALUE`` passes a parameter to the strategy:
 
@@ -56,7 +57,7 @@ def scenario_of(name: str, i: int):
 
 
 def run(names: list[str], draws: int, out: Path, minutes: float | None, start: int = 0,
-        only: str = "all", params: dict | None = None) -> None:
+        only: str = "all", params: dict | None = None, world: dict | None = None) -> None:
     from resumable import appending, deadline, done_keys
     from reciprocity.env import SearchEnv, rollout
     from reciprocity.strategies import STRATEGIES
@@ -70,7 +71,7 @@ def run(names: list[str], draws: int, out: Path, minutes: float | None, start: i
                     continue
                 if expired():
                     return
-                env = SearchEnv(scenario_of(name, i), platform="car")
+                env = SearchEnv(scenario_of(name, i), platform="car", world=dict(world or {}) or None)
                 if only != "all":               # the evaluator's judgement, made at reset
                     env.reset(seed=i)
                     if env.source_reachable != (only == "reachable"):
@@ -156,10 +157,20 @@ def main(argv=None) -> int:
                          "the others are skipped and not written)")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="a parameter of the reciprocity strategy (YAML value), e.g. source_clearance=0")
+    ap.add_argument("--world", action="append", default=[], metavar="KEY=VALUE",
+                    help="a key of every draw's world (YAML value), e.g. map=unknown")
     a = ap.parse_args(argv)
     from resumable import strategy_sets
     try:
         params = strategy_sets(a.set)
+        world = strategy_sets(a.world)
+        if world:           # checked on the first draw before any episode: a bad key fails here
+            from reciprocity.errors import SearchError
+            from reciprocity.env.spec import environment_spec
+            try:
+                environment_spec(scenario_of(a.arenas.split(",")[0], a.start), platform="car", world=world)
+            except SearchError as exc:
+                raise ValueError(str(exc)) from None
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -169,7 +180,7 @@ def main(argv=None) -> int:
     if a.table:
         print(table(a.table))
         return 0
-    run(a.arenas.split(","), a.draws, a.out, a.minutes, a.start, a.only, params)
+    run(a.arenas.split(","), a.draws, a.out, a.minutes, a.start, a.only, params, world)
     return 0
 
 

@@ -27,7 +27,9 @@ def test_a_paper_draw_is_the_campaign_s_and_states_its_source_clearance(bench):
     assert sc.arena.wall_distance([sc.params["source"]])[0] >= SOURCE_CLEARANCE
 
 
-@pytest.mark.parametrize("argv", [["--set", "source_clearance"], ["--set", "=3"], ["--only", "some"]])
+@pytest.mark.parametrize("argv", [["--set", "source_clearance"], ["--set", "=3"], ["--only", "some"],
+                                  ["--arenas", "paper", "--world", "map=sometimes"],
+                                  ["--arenas", "paper", "--world", "colour=3"]])
 def test_bad_options_exit_2(bench, argv, capsys):
     # argparse refuses a bad choice itself (SystemExit 2); the script refuses a bad --set
     with pytest.raises(SystemExit, match="2") if "--only" in argv else nullcontext():
