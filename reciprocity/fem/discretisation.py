@@ -16,12 +16,15 @@ the exact Green's function is known, 2.6 to 3.6 times the true error at h = 1, 2
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import ReciprocityError
+from .disk_cache import read_cached, write_cached
 from .green import GreenSolver
+from .mesh import mesh_key
 
 __all__ = ["DiscretisationError", "discretisation_error", "ORDER", "SAMPLE_SOURCES", "QUANTILE", "NEAR_CELLS"]
 
@@ -38,6 +41,12 @@ NEAR_CELLS = 3.0
 #: Pairs whose fine field is below this share of the sample source's largest are left out
 #: (far readings are noise, whatever their relative error).
 FLOOR_SHARE = 1e-3
+#: Grading of the coarse mesh (that of a P1 solver's by default).
+COARSE_GRADING = 0.5
+#: Format of the estimates kept on disk (the key of each also holds everything it is made from).
+CACHE_FORMAT = 1
+#: Estimates kept in the disk cache (the most recently used).
+CACHE_KEEP = 64
 
 
 @dataclass(frozen=True)
@@ -113,7 +122,13 @@ def discretisation_error(solver: GreenSolver, *, sources: int = SAMPLE_SOURCES,
     -----
     The coarse solver is built on the same arena at ``2 h`` (its mesh from the disk cache of
     meshes); both are solved for the same sources in one multi-column back-substitution
-    each. The result is kept on the solver, so a second call costs nothing.
+    each. The result is kept on the solver, so a second call costs nothing, and in the disk
+    cache (:mod:`reciprocity.fem.disk_cache`) under a key holding everything it is made from:
+    the solver's mesh (a digest of its points and triangles), ``h`` and walls, the coarse
+    mesh's key, the settings of the estimate, and the versions of scikit-fem, SciPy and
+    NumPy. An entry is used only when it passes that cache's checks and these: the bins
+    of `bins`, a finite non-negative quantile, a profile of one value per bin, ``h`` and
+    a positive pair count; the same numbers, to the bit, as computing it again.
     """
     if solver.order != 1:
         raise ReciprocityError("discretisation_error needs a P1 solver (order=1)")
@@ -122,7 +137,61 @@ def discretisation_error(solver: GreenSolver, *, sources: int = SAMPLE_SOURCES,
     kept = getattr(solver, "_discretisation", None)
     if kept is not None and kept[0] == key:
         return kept[1]
-    coarse = GreenSolver(solver.arena, h=2.0 * solver.h, order=1, walls=solver.walls)
+    disk_key = _disk_key(solver, int(sources), edges)
+    stored = read_cached("discretisation", disk_key, _FIELDS, lambda arrays: _check_entry(arrays, solver.h, edges))
+    if stored is not None:
+        out = DiscretisationError(float(stored["relative"][0]), np.array(stored["distances"], dtype=float),
+                                  np.array(stored["profile"], dtype=float), float(stored["h"][0]),
+                                  int(stored["pairs"][0]))
+        solver._discretisation = (key, out)
+        return out
+    out = _estimate(solver, int(sources), edges)
+    write_cached("discretisation", disk_key, keep=CACHE_KEEP, relative=np.array([out.relative]),
+                 distances=out.distances, profile=out.profile, h=np.array([out.h]),
+                 pairs=np.array([out.pairs], dtype=np.int64))
+    solver._discretisation = (key, out)
+    return out
+
+
+#: The arrays of an estimate kept on disk.
+_FIELDS = ("relative", "distances", "profile", "h", "pairs")
+
+
+def _disk_key(solver: GreenSolver, sources: int, edges: np.ndarray) -> str:
+    """Everything an estimate is made from, as its disk-cache key."""
+    import scipy
+    import skfem
+    m = solver._mesh1
+    digest = hashlib.sha256()
+    for a in (m.p, m.t):
+        digest.update(str((a.dtype.str, a.shape)).encode())
+        digest.update(np.ascontiguousarray(a).tobytes())
+    return (f"discretisation|{CACHE_FORMAT}|order {ORDER}|sources {sources}|edges {edges.tolist()!r}|"
+            f"quantile {QUANTILE!r}|near {NEAR_CELLS!r}|floor {FLOOR_SHARE!r}|h {solver.h!r}|"
+            f"walls {solver.walls}|mesh {digest.hexdigest()}|"
+            f"coarse {mesh_key(solver.arena, 2.0 * solver.h, COARSE_GRADING)}|"
+            f"skfem {skfem.__version__}|scipy {scipy.__version__}|numpy {np.__version__}")
+
+
+def _check_entry(arrays: dict, h: float, edges: np.ndarray) -> None:
+    """An estimate read from disk must be one of `h` with a profile over `edges`."""
+    rel, dist, prof = arrays["relative"], arrays["distances"], arrays["profile"]
+    if rel.shape != (1,) or rel.dtype != np.float64 or not (np.isfinite(rel[0]) and rel[0] >= 0):
+        raise ValueError(f"relative error {rel!r} is not one finite fraction >= 0")
+    if dist.dtype != np.float64 or not np.array_equal(dist, edges[1:]):
+        raise ValueError("distance bins differ from the requested ones")
+    if prof.dtype != np.float64 or prof.shape != dist.shape or (prof[~np.isnan(prof)] < 0).any():
+        raise ValueError("profile is not one fraction >= 0 (or NaN) per bin")
+    if arrays["h"].shape != (1,) or arrays["h"].dtype != np.float64 or float(arrays["h"][0]) != h:
+        raise ValueError(f"mesh size {arrays['h']!r}, not {h!r}")
+    pairs = arrays["pairs"]
+    if pairs.shape != (1,) or pairs.dtype.kind not in "iu" or int(pairs[0]) < 1:
+        raise ValueError(f"pair count {pairs!r} is not one positive whole number")
+
+
+def _estimate(solver: GreenSolver, sources: int, edges: np.ndarray) -> DiscretisationError:
+    """The estimate itself (:func:`discretisation_error`, computed)."""
+    coarse = GreenSolver(solver.arena, h=2.0 * solver.h, order=1, walls=solver.walls, grading=COARSE_GRADING)
     nodes = solver.nodes
     # the fine nodes located in the coarse mesh once: where sample sources may lie, and
     # where the coarse fields are compared
@@ -148,7 +217,5 @@ def discretisation_error(solver: GreenSolver, *, sources: int = SAMPLE_SOURCES,
     which = np.digitize(dist, edges[1:-1])
     profile = np.array([np.quantile(rel[which == b], QUANTILE) if np.any(which == b) else np.nan
                         for b in range(len(edges) - 1)])
-    out = DiscretisationError(float(np.quantile(rel, QUANTILE)), edges[1:].copy(), profile,
-                              float(solver.h), int(rel.size))
-    solver._discretisation = (key, out)
-    return out
+    return DiscretisationError(float(np.quantile(rel, QUANTILE)), edges[1:].copy(), profile,
+                               float(solver.h), int(rel.size))

@@ -1,4 +1,4 @@
-"""Arrays kept on disk between processes: meshes and Green's functions.
+"""Arrays kept on disk between processes: meshes, Green's functions and discretisation estimates.
 
 A cache must never make a run fail or differ. Each entry carries its key (everything it
 was computed from: the arena's geometry, the mesh, the elements, the point, the libraries'

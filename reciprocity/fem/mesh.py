@@ -265,20 +265,26 @@ def cached_mesh(arena: Arena, h: float, *, grading: float | None = 0.5) -> skfem
     is passed over silently (the mesh is then made as usual).
     """
     import skfem
-    import triangle
-    rings = hashlib.sha256()
-    for ring in (arena.boundary, *arena.obstacles):
-        rings.update(np.ascontiguousarray(ring, dtype=float).tobytes())
-        rings.update(b"|")
-    version = getattr(triangle, "__version__", "")
-    key = (f"mesh|{MESH_FORMAT}|triangle {version}|h {float(h)!r}|grading {grading!r}|{arena.circle!r}|"
-           f"rings {rings.hexdigest()}")
+    key = mesh_key(arena, h, grading)
     data = read_cached("meshes", key, ("p", "t"), lambda arrays: _check_mesh_arrays(arena, arrays))
     if data is not None:
         return skfem.MeshTri(np.ascontiguousarray(data["p"]), np.ascontiguousarray(data["t"]))
     mesh = mesh_free_region(arena, h, grading=grading)
     write_cached("meshes", key, p=mesh.p, t=mesh.t)
     return mesh
+
+
+def mesh_key(arena: Arena, h: float, grading: float | None) -> str:
+    """The disk-cache key of :func:`cached_mesh`'s mesh: everything it is made from (the
+    arena's rings and circle, `h`, `grading`, the mesher's version and this format)."""
+    import triangle
+    rings = hashlib.sha256()
+    for ring in (arena.boundary, *arena.obstacles):
+        rings.update(np.ascontiguousarray(ring, dtype=float).tobytes())
+        rings.update(b"|")
+    version = getattr(triangle, "__version__", "")
+    return (f"mesh|{MESH_FORMAT}|triangle {version}|h {float(h)!r}|grading {grading!r}|{arena.circle!r}|"
+            f"rings {rings.hexdigest()}")
 
 
 def _check_mesh_arrays(arena: Arena, arrays: dict) -> None:

@@ -45,3 +45,35 @@ def test_the_estimate_falls_with_the_mesh():
 def test_p2_solvers_are_refused():
     with pytest.raises(ReciprocityError, match="P1"):
         disc.discretisation_error(r.GreenSolver(arenas.load("disk"), h=4.0, order=2))
+
+
+def test_the_estimate_is_kept_on_disk_and_read_back_to_the_bit(monkeypatch):
+    """A second solver of the same mesh (another process, as far as the estimate can tell)
+    reads the estimate from the disk cache instead of solving on the coarse mesh; a
+    solver of another mesh size, or another number of sample sources, computes its own."""
+    arena = arenas.load("disk")
+    first = disc.discretisation_error(r.GreenSolver(arena, h=4.0))
+    computed = []
+    original = disc._estimate
+    monkeypatch.setattr(disc, "_estimate", lambda *a: computed.append(a[1:]) or original(*a))
+    again = disc.discretisation_error(r.GreenSolver(arena, h=4.0))
+    assert computed == []
+    assert again is not first and again.relative == first.relative and again.pairs == first.pairs
+    np.testing.assert_array_equal(again.profile, first.profile)
+    np.testing.assert_array_equal(again.distances, first.distances)
+    disc.discretisation_error(r.GreenSolver(arena, h=4.0), sources=6)
+    disc.discretisation_error(r.GreenSolver(arena, h=3.0))
+    assert [c[0] for c in computed] == [6, disc.SAMPLE_SOURCES]
+
+
+def test_an_entry_for_other_bins_or_another_h_is_refused():
+    edges = np.array([0.0, 5.0, 10.0, 20.0, 40.0, 80.0, np.inf])
+    good = dict(relative=np.array([0.01]), distances=edges[1:].copy(), profile=np.full(6, 0.01),
+                h=np.array([2.0]), pairs=np.array([500], dtype=np.int64))
+    disc._check_entry(good, 2.0, edges)
+    for change in (dict(relative=np.array([np.nan])), dict(relative=np.array(0.01)),
+                   dict(distances=edges[1:][::-1].copy()), dict(profile=np.full(5, 0.01)),
+                   dict(profile=np.full(6, -1.0)), dict(h=np.array([1.0])), dict(pairs=np.array([0])),
+                   dict(pairs=np.array([1.5]))):
+        with pytest.raises(ValueError):
+            disc._check_entry({**good, **change}, 2.0, edges)
