@@ -108,7 +108,9 @@ def test_masks_are_the_same_bits_on_one_thread_and_on_two(case):
     np.testing.assert_array_equal(one, ws.stencils["adm"])
 
 
-def test_mask_threads_follow_the_options():
+def test_mask_threads_follow_the_options(monkeypatch):
     assert solver.mask_threads(SolverOptions(threads=1)) == 1
     assert solver.mask_threads(SolverOptions(threads=2)) == 2
-    assert 1 <= solver.mask_threads(SolverOptions()) <= _sweep.GROUPS
+    for cores, threads in ((1, 1), (2, 2), (8, _sweep.GROUPS), (None, 1)):
+        monkeypatch.setattr(solver.os, "cpu_count", lambda cores=cores: cores)
+        assert solver.mask_threads(SolverOptions()) == threads
