@@ -71,7 +71,7 @@ def run(names: list[str], draws: int, out: Path, minutes: float | None, start: i
                     continue
                 if expired():
                     return
-                env = SearchEnv(scenario_of(name, i), platform="car", world=dict(world or {}) or None)
+                env = SearchEnv(scenario_of(name, i), platform="car", world=world or None)
                 if only != "all":               # the evaluator's judgement, made at reset
                     env.reset(seed=i)
                     if env.source_reachable != (only == "reachable"):

@@ -61,7 +61,7 @@ class StrategyAgent:
         else:
             params = with_limits(self._factory, self._params, task.limits)
             late = {key: value for key, value in task.limits.items()
-                    if key in self._factory.start_limits and key not in self._params}
+                    if key in getattr(self._factory, "start_limits", ()) and key not in self._params}
             built = self._spec.take_strategy(params) if self._spec is not None else None
             strategy = built if built is not None else self._factory(**params)
         if self._spec is None:
@@ -142,6 +142,6 @@ def with_limits(cls: type, params, limits) -> dict:
     out = dict(params or {})
     accepted = _accepted(cls)
     for key, value in limits.items():
-        if key in accepted and key not in cls.start_limits:
+        if key in accepted and key not in getattr(cls, "start_limits", ()):
             out.setdefault(key, value)
     return out
