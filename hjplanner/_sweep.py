@@ -47,14 +47,41 @@ NEVER = -(1 << 62)  # stamp of a block that never held a finite value
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _dep_changed(changed, kc, e0, f0, since):
-    """Whether one of the 2 x 2 blocks from (e0, f0) of layer kc changed at or after stamp ``since``."""
-    nbx, nby = changed.shape[1], changed.shape[2]
-    for e in range(max(e0, 0), min(e0 + 2, nbx)):
-        for f in range(max(f0, 0), min(f0 + 2, nby)):
-            if changed[kc, e, f] >= since:
-                return True
-    return False
+def _dep_changed(dilated, kc, e0, f0, since, p):
+    """Whether one of the 2 x 2 blocks from (e0, f0) of layer kc changed at or after stamp ``since``.
+
+    ``dilated`` holds, at ``[kc, e0 + p, f0 + p]``, the latest stamp of those
+    blocks (:func:`_dilated`), so the question is one read.
+    """
+    return dilated[kc, e0 + p, f0 + p] >= since
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _stamp_block(dilated, k, bi, bj, stamp, p):
+    """Record stamp ``stamp`` for block (bi, bj) of layer k in the dilated stamps (see :func:`_dilated`)."""
+    for e in range(bi - 1 + p, bi + 1 + p):
+        for f in range(bj - 1 + p, bj + 1 + p):
+            if dilated[k, e, f] < stamp:
+                dilated[k, e, f] = stamp
+
+
+def _dilated(stamps: np.ndarray, p: int) -> np.ndarray:
+    """Block stamps (layer, bx, by) as the latest stamp of each 2 x 2 group of blocks.
+
+    Entry ``[k, e0 + p, f0 + p]`` is the largest stamp of the blocks
+    ``[e0, e0 + 2) x [f0, f0 + 2)`` of layer k that exist (:data:`NEVER` if
+    none does), for ``e0, f0 >= -p``: the question a stencil asks of the
+    blocks holding its feet.  A block's new stamp is written to the four
+    groups that hold it (:func:`_stamp_block`); stamps only grow, so the
+    entries stay the maxima.
+    """
+    n, nbx, nby = stamps.shape
+    out = np.full((n, nbx + 2 * p, nby + 2 * p), NEVER, np.int64)
+    for de in (0, 1):
+        for df in (0, 1):
+            view = out[:, p - de:p - de + nbx, p - df:p - df + nby]
+            np.maximum(view, stamps, out=view)
+    return out
 
 
 @njit(cache=True, nogil=True)
@@ -180,6 +207,7 @@ def _update_layer(phi, tmin, k, off_i, off_j, w, inv_self, kk, src, cost, adm, r
     nx, ny = nxp - 2 * pad, nyp - 2 * pad
     nc = off_i.shape[1]
     nbx, nby = computed.shape[1], computed.shape[2]
+    p = (changed.shape[1] - nbx) // 2  # the margin of the dilated stamps
     n_straight = 0
     straight = np.empty(nc, np.int64)
     for c in range(nc):
@@ -207,9 +235,9 @@ def _update_layer(phi, tmin, k, off_i, off_j, w, inv_self, kk, src, cost, adm, r
             flag = False
             for c in range(nc):
                 if kk[k, c] != k:
-                    stale[bj, c] = _dep_changed(touched, src[k, c], bi + qi[k, c], bj + qj[k, c], since)
+                    stale[bj, c] = _dep_changed(touched, src[k, c], bi + qi[k, c], bj + qj[k, c], since, p)
                     flag = flag or (stale[bj, c] and _dep_changed(changed, src[k, c], bi + qi[k, c],
-                                                                  bj + qj[k, c], since))
+                                                                  bj + qj[k, c], since, p))
                 else:
                     stale[bj, c] = False
             turn[bj] = flag
@@ -233,7 +261,7 @@ def _update_layer(phi, tmin, k, off_i, off_j, w, inv_self, kk, src, cost, adm, r
                 flag = False
                 for s in range(n_straight):
                     c = straight[s]
-                    if _dep_changed(changed, k, bi + qi[k, c], bj + qj[k, c], since):
+                    if _dep_changed(changed, k, bi + qi[k, c], bj + qj[k, c], since, p):
                         flag = True
                         break
                 if not flag:
@@ -249,9 +277,9 @@ def _update_layer(phi, tmin, k, off_i, off_j, w, inv_self, kk, src, cost, adm, r
             moved = _straight_pass(lay, tm, ad, i0, i1, j0, j1, rev_i, rev_j, pad, n_straight, s_bit, s_di, s_dj, s_w,
                                    s_cost, s_inv, tol)
             if moved > 0:
-                touched[k, bi, bj] = stamp
+                _stamp_block(touched, k, bi, bj, stamp, p)
             if moved > 1:
-                changed[k, bi, bj] = stamp
+                _stamp_block(changed, k, bi, bj, stamp, p)
                 layer_changed[k] = stamp
     return n_blocks, clock
 
@@ -471,9 +499,11 @@ def solve_sweeps(phi, bc, off_i, off_j, w, inv_self, kk, cost, adm, rev_i, rev_j
         work = phi
     changed = np.full((nt + nsnap, nbx, nby), NEVER, np.int64)  # stamp of the last change
     _stamp_initial(phi, pad, changed)  # the initial data
+    layer_changed = changed[:nt].max(axis=(1, 2))
+    # from here on, both hold the stamps of each group of 2 x 2 blocks a stencil's feet lie in
+    changed = _dilated(changed, 1 + int(max(np.abs(qi).max(), np.abs(qj).max())))
     touched = changed.copy()  # stamp of the last decrease of any size
     computed = np.full((nt, nbx, nby), -1, np.int64)  # stamp of the last computation
-    layer_changed = changed[:nt].max(axis=(1, 2))
     layer_pass = np.full(nt, -1, np.int64)
     clock = 0
     flags = np.zeros((groups, nby), np.bool_)
