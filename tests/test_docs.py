@@ -133,7 +133,17 @@ def _run_shell(cmd: str, folder: Path) -> None:
     assert done.returncode == 0, f"exit {done.returncode}\n{done.stdout[-1500:]}\n{done.stderr[-1500:]}"
 
 
-@pytest.mark.parametrize("doc", DOCS)
+#: Pages whose blocks take tens of seconds (whole campaigns, demos and sessions): they run in
+#: the slower tier (``-m slow``), which CI runs after the README's suite.
+SLOW_DOCS = ("README.md", "docs/beyond-the-papers.md", "docs/campaigns.md", "docs/generated-arenas.md",
+             "docs/getting-started.md", "docs/papers.md", "docs/tutorials/flow.md", "docs/tutorials/poisson.md")
+
+
+def test_every_slow_page_exists():
+    assert set(SLOW_DOCS) <= set(DOCS)
+
+
+@pytest.mark.parametrize("doc", [pytest.param(d, marks=pytest.mark.slow) if d in SLOW_DOCS else d for d in DOCS])
 def test_every_block_of_the_docs_runs_in_order(doc, tmp_path, monkeypatch):
     import matplotlib
     matplotlib.use("Agg")

@@ -145,6 +145,7 @@ def test_plume_figures(tmp_path, pixels_near):
     assert pixels_near(tmp_path / "rate_song-100.png", (255, 0, 0), 60) > 20    # the true source's red star
 
 
+@pytest.mark.slow
 def test_wind_search_figure(tmp_path, pixels_near):
     s = load("wind_search_figure").main(["--out", str(tmp_path), "--h", "3", "--truth-h", "2", "--max-steps", "6",
                                          "--video"])

@@ -10,6 +10,7 @@ from hjplanner import ValueFunction
 from hjplanner.cli import main
 
 
+@pytest.mark.slow
 def test_solve_then_path(tmp_path, capsys):
     out = tmp_path / "v.npz"
     assert main(["solve", "--bounds=-1,1,-1,1", "--target", "0,0", "--rho", "0.3", "--h", "0.05",

@@ -43,6 +43,7 @@ def spec():
     return parse_spec(SPEC)
 
 
+@pytest.mark.slow
 def test_episode_json_is_the_same_across_runs_and_worker_counts(spec, tmp_path):
     one = run_campaign(spec, tmp_path / "one", workers=1, progress=False)
     two = run_campaign(spec, tmp_path / "two", workers=2, progress=False)

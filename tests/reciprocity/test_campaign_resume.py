@@ -8,6 +8,7 @@ import sys
 import time
 
 import duckdb
+import pytest
 
 from reciprocity.campaign import load_spec
 from reciprocity.campaign.store import episodes_sql, result_files
@@ -32,6 +33,7 @@ def _command(spec, out) -> list[str]:
             "--workers", "1", "--quiet"]
 
 
+@pytest.mark.slow
 def test_a_killed_campaign_command_resumes_with_no_episode_lost_or_repeated(tmp_path):
     spec = tmp_path / "resume.yaml"
     spec.write_text(SPEC)

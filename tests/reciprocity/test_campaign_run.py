@@ -67,6 +67,7 @@ def test_reference_run_stores_every_episode_and_reuses_setup(reference, spec_fil
     assert (again.n_run, again.n_skipped, again.cache_stats) == (0, 14, {})  # nothing to do
 
 
+@pytest.mark.slow
 def test_killed_driver_resumes_without_losing_or_repeating(spec_file, reference, tmp_path):
     out = tmp_path / "killed"
     proc = subprocess.Popen([sys.executable, "-c", DRIVER, str(spec_file), str(out)],

@@ -169,6 +169,7 @@ def test_reproduce_protocol_on_the_command_line(tmp_path, capsys):
     assert not (tmp_path / "x").exists()
 
 
+@pytest.mark.slow
 def test_protocols_found_beside_are_printed_side_by_side(tmp_path, capsys):
     """A protocol's run prints, after its own table, every protocol whose results lie in
     the default folders beside it, one column and verdict each; a lone protocol does not."""

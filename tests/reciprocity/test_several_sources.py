@@ -140,6 +140,7 @@ def test_restrict_zeroes_the_map_outside_the_allowed_nodes():
 
 
 # -- the search ------------------------------------------------------------------------
+@pytest.mark.slow
 def test_the_search_finds_two_sources_without_being_told_how_many():
     env = SearchEnv(scenario())
     episode = rollout(env, StrategyAgent(STRATEGIES["reciprocity"]), 0)
@@ -216,6 +217,7 @@ def test_a_campaign_draws_as_many_sources_as_the_scenario_has_well_apart():
     assert world.n_sources == 3 and world.max_sources == MAX_SOURCES
 
 
+@pytest.mark.slow
 def test_an_unknown_map_and_two_sources_run_end_to_end():
     """Both extensions at once: the strategy meshes what its range sensor saw, and looks for
     the sources it is not told of; the walls and the sources stay on the truth's side."""

@@ -120,6 +120,7 @@ def test_a_survey_moves_and_scans_without_a_reading_and_only_with_a_lidar():
         plain.step(Survey(np.array([128.0, 20.0])))
 
 
+@pytest.mark.slow
 def test_on_an_unknown_map_the_search_explores_by_surveys_that_are_no_readings():
     """Surveys (scan, no reading) carry the search round the spiral: fewer readings than
     reading at every frontier point, each survey a round of its own, never a reading."""
