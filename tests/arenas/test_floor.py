@@ -7,6 +7,7 @@ import matplotlib
 import numpy as np
 import pytest
 
+import arenas
 from arenas import Arena, ArenaError
 from arenas.floor import Floor, GreyMapping, render_floor
 
@@ -262,3 +263,35 @@ def test_floors_of_one_arena_share_their_free_pixels(arena):
     np.testing.assert_array_equal(centres, every[free])
     assert not free.flags.writeable and not centres.flags.writeable
     assert b.image.shape == a.image.shape
+
+
+def _centres(arena, px_per_cm):
+    import math
+    from arenas.frames import pixel_to_world
+    (x0, x1), (y0, y1) = arena.bounds
+    w = max(1, math.ceil((x1 - x0) * px_per_cm - 1e-6))
+    h = max(1, math.ceil((y1 - y0) * px_per_cm - 1e-6))
+    rows, cols = np.mgrid[0:h, 0:w]
+    return (h, w), pixel_to_world(np.column_stack([cols.ravel(), rows.ravel()]), 1.0 / px_per_cm, h, (x0, y0))
+
+
+@pytest.mark.parametrize("which", ["paper", "maze", "disk", "deep_u", "rooms", "spiral", "ring",
+                                   "pillars", "office", "specks"])
+@pytest.mark.parametrize("px_per_cm", [1.7, 3.0])
+def test_free_pixels_are_those_the_arena_contains(which, px_per_cm):
+    """The rasterised free region, with the band along the walls asked of the arena itself,
+    gives arena.contains to the pixel: built-in and generated arenas, and obstacles
+    smaller than a pixel or thinner than one."""
+    from arenas.floor import _free_centres
+    if which == "specks":
+        arena = Arena.from_polygons(
+            [(0, 0), (50, 0), (50, 40), (0, 40)],
+            [[(10, 10), (10.2, 10), (10.2, 10.2), (10, 10.2)],          # under a pixel
+             [(20, 5), (20.1, 5), (20.1, 35), (20, 35)],                 # a wall thinner than one
+             [(30, 10), (40, 10), (40, 30), (30, 30)]])
+    elif which in ("paper", "maze", "disk", "deep_u"):
+        arena = arenas.load(which)
+    else:
+        arena = arenas.generate(which, 2)
+    shape, centres = _centres(arena, px_per_cm)
+    assert np.array_equal(_free_centres(arena, px_per_cm, shape, centres), arena.contains(centres))
