@@ -9,11 +9,15 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.tri import Triangulation
 
-__all__ = ["MARGIN", "TriangleLocator"]
+__all__ = ["BINNED_MIN_POINTS", "MARGIN", "TriangleLocator"]
 
 #: How far inside a triangle (in each barycentric coordinate) a point must be for the
 #: compiled pass to answer it; the rest take the exact path (1000 times its tolerance).
 MARGIN = 1e-9
+
+#: Fewer points than this go straight to the nearest-centroid path (the same answers): a
+#: point run locates a few dozen points, and should not load numba for them.
+BINNED_MIN_POINTS = 2048
 
 
 class TriangleLocator:
@@ -81,10 +85,10 @@ class TriangleLocator:
     def locate(self, points, k: int = 8) -> np.ndarray:
         """Index of the triangle holding each point (m, 2), -1 outside the mesh.
 
-        A compiled pass over the triangles binned around each point
-        (:mod:`reciprocity.fem._locate_kernels`) answers every point that lies inside a
-        triangle by :data:`MARGIN` in its barycentric coordinates: no other triangle can
-        hold it, so the answer is the exact one. The rest (near an edge or a vertex, or
+        From :data:`BINNED_MIN_POINTS` points on, a compiled pass over the triangles binned
+        around each point (:mod:`reciprocity.fem._locate_kernels`) answers every point that
+        lies inside a triangle by :data:`MARGIN` in its barycentric coordinates: no other
+        triangle can hold it, so the answer is the exact one. The rest (near an edge or a vertex, or
         outside the mesh) are tested against the `k` triangles with the nearest
         centroids by barycentric coordinates (a quality mesh holds the point in one of
         them, the first that does is taken), and the rare rest go to matplotlib's
@@ -92,8 +96,8 @@ class TriangleLocator:
         which start-up should not pay).
         """
         pts = np.atleast_2d(np.asarray(points, dtype=float))
-        if not len(pts):
-            return -np.ones(0, dtype=np.int64)
+        if len(pts) < BINNED_MIN_POINTS:
+            return self._locate_nearest(pts, k)
         from ._locate_kernels import locate_in_cells
         start, items, x0, y0, size, nx, ny, inv, origin = self._binned()
         out = locate_in_cells(np.ascontiguousarray(pts.reshape(len(pts), -1)[:, :2]), inv, origin,
@@ -106,6 +110,8 @@ class TriangleLocator:
     def _locate_nearest(self, pts: np.ndarray, k: int) -> np.ndarray:
         """:meth:`locate` by the `k` nearest centroids, then the trapezoid map."""
         out = -np.ones(len(pts), dtype=np.int64)
+        if not len(pts):
+            return out
         k = min(k, len(self.triangles))
         dist, cand = self._centroid_tree.query(pts, k=k)
         cand, dist = cand.reshape(len(pts), k), dist.reshape(len(pts), k)

@@ -29,7 +29,8 @@ def _hard_points(mesh, arena, rng):
 
 
 @pytest.mark.parametrize("which", ["paper", "maze", "pillars"])
-def test_the_compiled_pass_gives_the_exact_answer(which):
+def test_the_compiled_pass_gives_the_exact_answer(which, monkeypatch):
+    monkeypatch.setattr("reciprocity.fem.locate.BINNED_MIN_POINTS", 0)    # every set binned
     arena = arenas.generate("pillars", 1) if which == "pillars" else arenas.load(which)
     mesh = mesh_free_region(arena.without_scenario(), 3.0)
     loc = TriangleLocator(mesh.p.T, mesh.t.T)
@@ -56,7 +57,8 @@ def test_the_compiled_pass_answers_only_points_well_inside():
     assert (nodes == -1).all()
 
 
-def test_a_thin_mesh_keeps_its_bins_few_and_its_answers_exact():
+def test_a_thin_mesh_keeps_its_bins_few_and_its_answers_exact(monkeypatch):
+    monkeypatch.setattr("reciprocity.fem.locate.BINNED_MIN_POINTS", 0)
     mesh = skfem.MeshTri.init_tensor(np.linspace(0, 1000, 200), np.linspace(0, 1e-3, 3))
     loc = TriangleLocator(mesh.p.T, mesh.t.T)
     start = loc._binned()[0]
@@ -73,3 +75,16 @@ def test_no_points_and_one_point():
     assert loc.locate(np.zeros((0, 2))).shape == (0,)
     ref = Triangulation(mesh.p[0], mesh.p[1], mesh.t.T).get_trifinder()
     assert loc.locate([0.25, 0.5]).tolist() == ref([0.25], [0.5]).tolist()
+
+
+def test_a_few_points_load_no_numba():
+    """A point run locates a few dozen points: the nearest-centroid path serves them, and
+    numba (0.3-0.9 s to load) stays out of the process."""
+    import subprocess
+    import sys
+    code = ("import sys, numpy as np, skfem; from reciprocity.fem.locate import TriangleLocator, "
+            "BINNED_MIN_POINTS as n; m = skfem.MeshTri.init_symmetric().refined(3); "
+            "loc = TriangleLocator(m.p.T, m.t.T); loc.locate(np.random.default_rng(0).uniform(0, 1, (n - 1, 2))); "
+            "print('numba' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"
