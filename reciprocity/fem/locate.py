@@ -88,8 +88,8 @@ class TriangleLocator:
         From :data:`BINNED_MIN_POINTS` points on, a compiled pass over the triangles binned
         around each point (:mod:`reciprocity.fem._locate_kernels`) answers every point that
         lies inside a triangle by :data:`MARGIN` in its barycentric coordinates: no other
-        triangle can hold it, so the answer is the exact one. The rest (near an edge or a vertex, or
-        outside the mesh) are tested against the `k` triangles with the nearest
+        triangle can hold it, so the answer is the exact one. The rest (near an edge or a
+        vertex, or outside the mesh) are tested against the `k` triangles with the nearest
         centroids by barycentric coordinates (a quality mesh holds the point in one of
         them, the first that does is taken), and the rare rest go to matplotlib's
         trapezoid map, built on first need (it costs seconds on a 30 000-triangle mesh,
@@ -100,8 +100,8 @@ class TriangleLocator:
             return self._locate_nearest(pts, k)
         from ._locate_kernels import locate_in_cells
         start, items, x0, y0, size, nx, ny, inv, origin = self._binned()
-        out = locate_in_cells(np.ascontiguousarray(pts.reshape(len(pts), -1)[:, :2]), inv, origin,
-                              start, items, x0, y0, size, nx, ny, MARGIN)
+        out = locate_in_cells(np.ascontiguousarray(pts), inv, origin, start, items, x0, y0, size,
+                              nx, ny, MARGIN)
         rest = np.flatnonzero(out < 0)
         if rest.size:
             out[rest] = self._locate_nearest(pts[rest], k)
