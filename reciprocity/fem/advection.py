@@ -207,7 +207,7 @@ class AdvectionSolver:
         ReciprocityError
             If a point is outside the meshed free region.
         """
-        from .green import _inverse_map
+        from .inverse_map import inverse_map
         pts = as_points(points, "source point")
         basis = self.space.basis
         cells = self.space.locate(pts)
@@ -215,7 +215,7 @@ class AdvectionSolver:
             p = pts[np.argmax(cells < 0)]
             raise ReciprocityError(f"source point ({p[0]:.4g}, {p[1]:.4g}) cm is outside the meshed free "
                                    f"region of arena {self.arena.name!r}; choose a point in the free region")
-        loc = _inverse_map(basis.mapping, pts.T[:, :, None], cells)
+        loc = inverse_map(basis.mapping, pts.T[:, :, None], cells)
         fields = [basis.elem.gbasis(basis.mapping, loc, k, tind=cells)[0] for k in range(basis.Nbfun)]
         values = np.array([np.asarray(f)[:, 0] for f in fields])                  # (Nbfun, n)
         if self.supg:

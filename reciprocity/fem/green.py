@@ -19,6 +19,7 @@ import scipy.sparse as sp
 from arenas import Arena, as_points
 
 from ..errors import ReciprocityError
+from .inverse_map import basis_values, inverse_map
 from .locate import TriangleLocator
 from .disk_cache import read_cached, write_cached
 from .mesh import cached_mesh
@@ -305,27 +306,33 @@ class GreenSolver:
                       ) -> tuple[sp.csr_matrix, np.ndarray]:
         """:meth:`probe_matrix` of checked points `pts` (n, 2), with their `cells` when
         they were located already."""
-        cells = self.locator.locate(pts) if cells is None else cells.copy()
-        inside = cells >= 0
-        if self.order == 2 and self.arena.circle is not None and not inside.all():
-            # curved boundary: points between a chord and its arc are in the nearest cell
-            near = self._centroids.query(pts[~inside])[1]
-            within = self.arena.contains(pts[~inside])
-            cells[np.flatnonzero(~inside)[within]] = near[within]
-            inside = cells >= 0
+        cells, inside = self._probe_cells(pts, cells)
         idx = np.flatnonzero(inside)
         n = len(pts)
         if idx.size == 0:
             return sp.csr_matrix((n, self.basis.N)), inside
         x = pts[idx].T
         c = cells[idx]
-        loc = _inverse_map(self.basis.mapping, x[:, :, None], c)
-        phis = np.array([self.basis.elem.gbasis(self.basis.mapping, loc, k, tind=c)[0]
-                         for k in range(self.basis.Nbfun)])  # (Nbfun, n, 1)
+        loc = inverse_map(self.basis.mapping, x[:, :, None], c)
+        phis = basis_values(self.basis, loc, c)  # (Nbfun, n, 1)
         rows = np.tile(idx, self.basis.Nbfun)
         cols = self.basis.element_dofs[:, c].ravel()
         m = sp.coo_matrix((phis.ravel(), (rows, cols)), shape=(n, self.basis.N)).tocsr()
         return m, inside
+
+    def _probe_cells(self, pts: np.ndarray, cells: np.ndarray | None = None
+                     ) -> tuple[np.ndarray, np.ndarray]:
+        """The cell of each of the checked points `pts` (n, 2), cm, whose basis values a probe
+        takes, and whether it has one: its triangle (`cells` when located already), and on
+        a curved boundary, a point between a chord and its arc the nearest cell's."""
+        cells = self.locator.locate(pts) if cells is None else cells.copy()
+        inside = cells >= 0
+        if self.order == 2 and self.arena.circle is not None and not inside.all():
+            near = self._centroids.query(pts[~inside])[1]
+            within = self.arena.contains(pts[~inside])
+            cells[np.flatnonzero(~inside)[within]] = near[within]
+            inside = cells >= 0
+        return cells, inside
 
     def grid_probe(self, spacing: float):
         """Cached raster probe: ``(x, y, matrix, inside)`` for a grid of `spacing` cm."""
@@ -507,34 +514,3 @@ class GreenSolver:
     def __repr__(self) -> str:
         return (f"GreenSolver(arena={self.arena.name!r}, h={self.h}, order={self.order}, "
                 f"walls={self.walls!r}, unknowns={self.n_unknowns})")
-
-
-#: Newton steps of the fallback inverse map (:func:`_inverse_map`).
-INVERSE_ITERATIONS = 50
-
-
-def _inverse_map(mapping, x: np.ndarray, tind: np.ndarray) -> np.ndarray:
-    """Reference coordinates of the points `x` (2, n, 1) in the cells `tind`.
-
-    scikit-fem's Newton iteration (``mapping.invF``), and where it does not converge (a point
-    just outside its cell on a curved boundary, where the iterate bounces on the clipped
-    reference square), the same iteration point by point with the iterate kept in the
-    reference triangle: the nearest point of the cell, whose basis values are those of the
-    boundary next to the point.
-    """
-    try:
-        return mapping.invF(x, tind=tind)
-    except Exception:                            # noqa: BLE001 -- scikit-fem raises a bare Exception
-        pass
-    X = np.full(x.shape, 1.0 / 3.0)
-    for _ in range(INVERSE_ITERATIONS):
-        dX = np.einsum("ijkl,jkl->ikl", mapping.invDF(X, tind), x - mapping.F(X, tind))
-        X = _in_reference_triangle(X + dX)
-    return X
-
-
-def _in_reference_triangle(X: np.ndarray) -> np.ndarray:
-    """`X` (2, n, 1) moved into the reference triangle ``{X0, X1 >= 0, X0 + X1 <= 1}``."""
-    X = np.clip(X, 0.0, 1.0)
-    excess = np.maximum(X[0] + X[1] - 1.0, 0.0) / 2.0
-    return np.clip(X - excess[None], 0.0, 1.0)

@@ -20,7 +20,8 @@ import numpy as np
 from arenas import Arena, as_points
 
 from ..errors import ReciprocityError
-from .green import Field, GreenSolver, _inverse_map
+from .green import Field, GreenSolver
+from .inverse_map import inverse_map
 
 if TYPE_CHECKING:
     import skfem
@@ -193,7 +194,7 @@ class WindField:
     def _gradient_in_cells(self, pts: np.ndarray, cells: np.ndarray) -> np.ndarray:
         """``∇φ`` at `pts` (n, 2) lying in mesh triangles `cells`, shape (n, 2)."""
         basis = self.solver.basis
-        loc = _inverse_map(basis.mapping, pts.T[:, :, None], cells)
+        loc = inverse_map(basis.mapping, pts.T[:, :, None], cells)
         phi = self.potential_field.dofs
         grad = np.zeros((2, len(pts)))
         for k in range(basis.Nbfun):
