@@ -135,7 +135,8 @@ def make_grid(domain, h: float, ntheta: int, clearance: float) -> tuple[Grid, np
     if is_arena(domain):
         inside = np.asarray(domain.contains(points), dtype=bool)
         distance = np.where(inside, 1.0, -1.0) * np.asarray(domain.wall_distance(points), dtype=float)
-        free = np.asarray(domain.contains(points, clearance), dtype=bool) if clearance > 0 else inside
+        # free: inside, and at least `clearance` from every wall (the distance just measured)
+        free = inside & (distance >= clearance) if clearance > 0 else inside
     else:
         distance = np.min([points[:, 0] - x0, x1 - points[:, 0], points[:, 1] - y0, y1 - points[:, 1]], axis=0)
         free = distance >= clearance

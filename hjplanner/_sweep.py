@@ -284,17 +284,31 @@ def _update_layer(phi, tmin, k, off_i, off_j, w, inv_self, kk, src, cost, adm, r
     return n_blocks, clock
 
 
-def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach, threads=1):
+def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach, threads=1, base=None):
     """Bitmask (ntheta, nx, ny) of the stencils whose arc is clear of the walls (see
     :func:`_stencil_mask_rows`), computed by ``threads`` threads (at most :data:`GROUPS`),
     each taking every ``threads``-th row of nodes: rows near the walls cost the most, and
     interleaved rows share them evenly.  Each node's bits depend on that node alone, so
     the result is the same bits for any number of threads.
+
+    ``base``, optional, is ``(distance, free, adm)`` of the same grid and stencils (another
+    map of the same arena): a node's bits depend only on ``distance`` and ``free`` within
+    the reach of its arcs' samples (:func:`mask_reach`), so only the nodes within that
+    reach of a node where either differs are computed, and the others keep ``adm``'s bits:
+    the same bits as computing them all.
     """
     nt = ci.shape[0]
     nx, ny = distance.shape
-    adm = np.zeros((nt, nx, ny), np.uint32)
-    args = (distance, free, float(clearance), ci, cj, corner_dist, margin, reach, adm)
+    if base is None:
+        adm = np.zeros((nt, nx, ny), np.uint32)
+        todo = np.ones((nx, ny), np.bool_)
+    else:
+        old_distance, old_free, old_adm = base
+        adm = np.array(old_adm, dtype=np.uint32, copy=True)
+        todo = mask_reach((old_distance != distance) | (old_free != free), ci, cj)
+        if not todo.any():
+            return adm
+    args = (distance, free, float(clearance), ci, cj, corner_dist, margin, reach, todo, adm)
     threads = max(1, min(int(threads), GROUPS, nx))
     if threads == 1:
         _stencil_mask_rows(*args, 0, 1)
@@ -304,10 +318,26 @@ def stencil_masks(distance, free, clearance, ci, cj, corner_dist, margin, reach,
     return adm
 
 
+def mask_reach(changed, ci, cj):
+    """The nodes (nx, ny) whose clear-arc bits read a node of `changed` (nx, ny): the node
+    itself, and the corners ``(i + ci + a, j + cj + b)``, ``a, b`` in {0, 1}, of its arcs'
+    sample cells (:func:`_stencil_mask_rows`)."""
+    lo_i, hi_i = min(0, int(ci.min())), max(0, int(ci.max()) + 1)
+    lo_j, hi_j = min(0, int(cj.min())), max(0, int(cj.max()) + 1)
+    nx, ny = changed.shape
+    # counts of changed nodes in each window [i + lo_i, i + hi_i] x [j + lo_j, j + hi_j]
+    padded = np.zeros((nx + hi_i - lo_i + 1, ny + hi_j - lo_j + 1), np.int64)
+    padded[1 - lo_i:1 - lo_i + nx, 1 - lo_j:1 - lo_j + ny] = changed
+    total = padded.cumsum(axis=0).cumsum(axis=1)
+    wi, wj = hi_i - lo_i + 1, hi_j - lo_j + 1
+    window = total[wi:wi + nx, wj:wj + ny] - total[:nx, wj:wj + ny] - total[wi:wi + nx, :ny] + total[:nx, :ny]
+    return window > 0
+
+
 @njit(cache=True, nogil=True)
-def _stencil_mask_rows(distance, free, clearance, ci, cj, corner_dist, margin, reach, adm, first, step):
+def _stencil_mask_rows(distance, free, clearance, ci, cj, corner_dist, margin, reach, todo, adm, first, step):
     """Write into ``adm`` (ntheta, nx, ny) the bitmask of the stencils whose arc is clear of the
-    walls, for the rows ``first, first + step, ...`` of nodes.
+    walls, for the nodes of ``todo`` (nx, ny) in the rows ``first, first + step, ...``.
 
     Bit c of ``adm[k, i, j]`` is set when the arc of control c from the free
     node (i, j) at heading k stays at the clearance: either the node is
@@ -333,7 +363,11 @@ def _stencil_mask_rows(distance, free, clearance, ci, cj, corner_dist, margin, r
     half = (nm - 1 - mid) / (nm - 1)  # arc length from the middle sample to the farther end / reach
     for i in range(first, nx, step):
         for j in range(ny):
+            if not todo[i, j]:
+                continue
             if not free[i, j]:
+                for k in range(nt):
+                    adm[k, i, j] = 0
                 continue
             d0 = distance[i, j]
             if d0 >= far:  # every arc is shorter than the distance to the walls

@@ -80,13 +80,25 @@ def window(ws: Workspace, i0: int, i1: int, j0: int, j1: int) -> Workspace:
 
 
 def prepare(domain, rho: float, h: float, ntheta: int, *, clearance: float = 0.0, reverse: bool = False,
-            options: SolverOptions | None = None) -> Workspace:
-    """The target-independent part of :func:`solve`: grid, free space and clear stencils (arguments as there)."""
+            options: SolverOptions | None = None, like: Workspace | None = None) -> Workspace:
+    """The target-independent part of :func:`solve`: grid, free space and clear stencils (arguments as there).
+
+    ``like``, optional, is a workspace of another domain (another map of the same arena,
+    as a car mapping its walls makes them): when its grid, turning radius, clearance
+    and stencils are this one's, the clear-arc bits of the nodes that no change
+    of the wall distance or the free space can reach are taken from it (the same bits).
+    """
     _validate_grid(rho, h, ntheta, clearance)
     options = options or SolverOptions()
     grid, distance, free = make_grid(domain, float(h), int(ntheta), float(clearance))
     ctrl = options.controls(float(rho), grid, reverse)
-    stencils = build_stencils(float(rho), grid, ctrl, distance, free, float(clearance), mask_threads(options))
+    base = None
+    # the bits depend on the grid, the turning radius, the clearance and the stencils alone
+    if like is not None and like.grid == grid and like.rho == float(rho) and like.clearance == float(clearance) \
+            and like.ctrl == ctrl:
+        base = (like.distance, like.free, like.stencils["adm"])
+    stencils = build_stencils(float(rho), grid, ctrl, distance, free, float(clearance), mask_threads(options),
+                              base=base)
     return Workspace(grid, distance, free, domain_geometry(domain), float(rho), float(clearance), bool(reverse),
                      options, ctrl, stencils)
 
@@ -113,7 +125,9 @@ def prepared(domain, rho: float, h: float, ntheta: int, *, clearance: float = 0.
 
     The episodes of a campaign on one arena each build a planner for the same walls: they
     share one workspace (a workspace is never modified after it is prepared). The last
-    :data:`PREPARED_KEEP` are kept, least recently used dropped first.
+    :data:`PREPARED_KEEP` are kept, least recently used dropped first. A new one is
+    prepared ``like`` the latest kept with the same settings (:func:`prepare`): a car that
+    maps its walls prepares a workspace per map, each a little different from the last.
     """
     geometry = domain_geometry(domain)
     walls = (geometry["name"], geometry["boundary"].tobytes(), geometry["boundary"].shape,
@@ -124,7 +138,9 @@ def prepared(domain, rho: float, h: float, ntheta: int, *, clearance: float = 0.
         if key in _PREPARED:
             _PREPARED.move_to_end(key)
             return _PREPARED[key]
-    ws = prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options)
+    with _PREPARED_LOCK:                             # the latest of the same settings, on other walls
+        like = next((w for k, w in reversed(_PREPARED.items()) if k[1:] == key[1:]), None)
+    ws = prepare(domain, rho, h, ntheta, clearance=clearance, reverse=reverse, options=options, like=like)
     with _PREPARED_LOCK:
         _PREPARED[key] = ws
         while len(_PREPARED) > PREPARED_KEEP:
@@ -133,7 +149,7 @@ def prepared(domain, rho: float, h: float, ntheta: int, *, clearance: float = 0.
 
 
 def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], distance: np.ndarray,
-                   free: np.ndarray, clearance: float, threads: int = 1) -> dict:
+                   free: np.ndarray, clearance: float, threads: int = 1, base: tuple | None = None) -> dict:
     """Per (layer, control): foot offsets, bilinear corner weights, landing layer, cost; clear-arc bitmasks.
 
     The foot of stencil c from node (i, j, θ_k) lies in the cell whose lower
@@ -143,7 +159,8 @@ def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], d
     ``adm`` (ntheta, nx, ny) is the bitmask of
     :func:`hjplanner._sweep.stencil_masks`: the arcs clear of the walls, at
     the samples also used by :func:`hjplanner._motion.arcs_are_clear`, computed
-    by ``threads`` threads (the same bits for any number).
+    by ``threads`` threads (the same bits for any number), from the bits of ``base``
+    (``(distance, free, adm)`` of the same grid and stencils) where they cannot differ.
     """
     theta = grid.theta
     nt, nc = grid.ntheta, len(ctrl)
@@ -170,7 +187,7 @@ def build_stencils(rho: float, grid: Grid, ctrl: list[tuple[int, int, float]], d
                 w[k, c, corner] = 0.0
     pad = int(max(np.abs(off_i).max(), np.abs(off_j).max())) + 2
     ci, cj, corner_dist, margin = arc_sample_cells(rho, grid, ctrl, clearance)
-    adm = _sweep.stencil_masks(distance, free, float(clearance), ci, cj, corner_dist, margin, s, threads)
+    adm = _sweep.stencil_masks(distance, free, float(clearance), ci, cj, corner_dist, margin, s, threads, base)
     # Visit each layer against its forward straight motion (see _sweep).
     rev_i = np.cos(theta) >= 0
     rev_j = np.sin(theta) >= 0

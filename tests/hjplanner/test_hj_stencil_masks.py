@@ -114,3 +114,88 @@ def test_mask_threads_follow_the_options(monkeypatch):
     for cores, threads in ((1, 1), (2, 2), (8, _sweep.GROUPS), (None, 1)):
         monkeypatch.setattr(solver.os, "cpu_count", lambda cores=cores: cores)
         assert solver.mask_threads(SolverOptions()) == threads
+
+
+# ------------------------------------------------- masks of another map, from the last one's
+def _maps():
+    """`paper`, the same with a box added in one corner, and with one of its obstacles gone:
+    the maps a car that scans its walls goes through."""
+    base = arenas.load("paper")
+    box = np.array([[10.0, 10.0], [16.0, 10.0], [16.0, 14.0], [10.0, 14.0]])
+    added = arenas.Arena.from_polygons(base.boundary, [*base.obstacles, box], name="paper")
+    fewer = arenas.Arena.from_polygons(base.boundary, base.obstacles[1:], name="paper")
+    return base, added, fewer
+
+
+@pytest.mark.parametrize("reverse", [False, True])
+def test_a_map_prepared_like_the_last_has_the_bits_of_one_prepared_alone(reverse):
+    """Only the nodes within the reach of a changed wall distance or free node are computed
+    again; the others keep the last map's bits, and every bit is the one a full computation
+    gives (walls added, and walls taken away)."""
+    base, added, fewer = _maps()
+    settings = dict(rho=15.0, h=1.5, ntheta=48, clearance=4.0, reverse=reverse)
+    last = solver.prepare(base, **settings)
+    for new in (added, fewer):
+        alone = solver.prepare(new, **settings)
+        like = solver.prepare(new, **settings, like=last)
+        assert not np.array_equal(alone.distance, last.distance)
+        np.testing.assert_array_equal(like.stencils["adm"], alone.stencils["adm"])
+        for key in ("off_i", "w", "kk", "cost", "inv_self"):
+            np.testing.assert_array_equal(like.stencils[key], alone.stencils[key])
+        changed = (alone.distance != last.distance) | (alone.free != last.free)
+        kept = ~_sweep.mask_reach(changed, *solver.arc_sample_cells(15.0, alone.grid, alone.ctrl, 4.0)[:2])
+        assert kept.any() and (~kept).any()                  # some bits were kept, some computed
+        last = alone
+
+
+def test_a_workspace_of_other_settings_lends_no_bits():
+    base, added, _ = _maps()
+    last = solver.prepare(base, 15.0, 1.5, 48, clearance=4.0)
+    for other in (dict(clearance=3.0), dict(reverse=True)):
+        settings = dict(clearance=4.0) | other
+        alone = solver.prepare(added, 15.0, 1.5, 48, **settings)
+        np.testing.assert_array_equal(solver.prepare(added, 15.0, 1.5, 48, **settings, like=last).stencils["adm"],
+                                      alone.stencils["adm"])
+
+
+def test_the_reach_of_a_change_covers_every_node_whose_bits_read_it():
+    """A node's bits read its own node and the corners of its arcs' sample cells: a change
+    at one node reaches back over exactly those offsets."""
+    ci = np.array([[[0, 2, -3]]])
+    cj = np.array([[[0, -1, 1]]])
+    changed = np.zeros((12, 12), bool)
+    changed[6, 6] = True
+    reach = _sweep.mask_reach(changed, ci, cj)
+    # node (i, j) reads (i + a, j + b), a in [-3, 3], b in [-1, 2]: it is reached when
+    # (6 - i, 6 - j) is such an offset
+    i, j = np.nonzero(reach)
+    assert set(zip((6 - i).tolist(), (6 - j).tolist())) == {(a, b) for a in range(-3, 4) for b in range(-1, 3)}
+
+
+def test_the_bits_out_of_reach_are_taken_from_the_last_map():
+    """Flip the last map's bits everywhere: the nodes out of the changes' reach carry the
+    flipped bits (taken, not computed), the others the computed ones."""
+    from dataclasses import replace
+    base, added, _ = _maps()
+    last = solver.prepare(base, 15.0, 1.5, 48, clearance=4.0)
+    flipped = replace(last, stencils=dict(last.stencils, adm=~last.stencils["adm"]))
+    alone = solver.prepare(added, 15.0, 1.5, 48, clearance=4.0)
+    like = solver.prepare(added, 15.0, 1.5, 48, clearance=4.0, like=flipped)
+    changed = (alone.distance != last.distance) | (alone.free != last.free)
+    computed = _sweep.mask_reach(changed, *solver.arc_sample_cells(15.0, alone.grid, alone.ctrl, 4.0)[:2])
+    np.testing.assert_array_equal(like.stencils["adm"][:, computed], alone.stencils["adm"][:, computed])
+    np.testing.assert_array_equal(like.stencils["adm"][:, ~computed], ~last.stencils["adm"][:, ~computed])
+
+
+def test_prepared_prepares_a_new_map_like_the_latest_of_its_settings(monkeypatch):
+    from collections import OrderedDict
+    monkeypatch.setattr(solver, "_PREPARED", OrderedDict())
+    base, added, _ = _maps()
+    seen = []
+    real = solver.prepare
+    monkeypatch.setattr(solver, "prepare", lambda *a, **k: seen.append(k.get("like")) or real(*a, **k))
+    first = solver.prepared(base, 15.0, 1.5, 48, clearance=4.0)
+    solver.prepared(base, 15.0, 1.5, 48, clearance=3.0)              # other settings: not a model
+    second = solver.prepared(added, 15.0, 1.5, 48, clearance=4.0)
+    assert seen[0] is None and seen[1] is None and seen[2] is first
+    np.testing.assert_array_equal(second.stencils["adm"], real(added, 15.0, 1.5, 48, clearance=4.0).stencils["adm"])
