@@ -64,6 +64,18 @@ def affine_inverse(x, cells, inv_a, b):  # pragma: no cover (compiled)
     return out
 
 
+@njit(cache=True, inline="always")
+def _p2_phi(x, y):  # pragma: no cover (compiled)
+    """The six quadratic basis functions at the reference point (`x`, `y`), as
+    ``ElementTriP2.lbasis`` writes them."""
+    return (1. - 3. * x - 3. * y + 2. * (x * x) + 4. * x * y + 2. * (y * y),
+            2. * (x * x) - x,
+            2. * (y * y) - y,
+            4. * x - 4. * (x * x) - 4. * x * y,
+            4. * x * y,
+            4. * y - 4. * x * y - 4. * (y * y))
+
+
 @njit(cache=True)
 def _p2_step(px, py, tx, ty, X0, X1):  # pragma: no cover (compiled)
     """One Newton step of the quadratic map with nodes `px`, `py` towards (`tx`, `ty`).
@@ -72,12 +84,7 @@ def _p2_step(px, py, tx, ty, X0, X1):  # pragma: no cover (compiled)
     The sums run over the six nodes in scikit-fem's order, from zero.
     """
     x, y = X0, X1
-    phi0 = 1. - 3. * x - 3. * y + 2. * (x * x) + 4. * x * y + 2. * (y * y)
-    phi1 = 2. * (x * x) - x
-    phi2 = 2. * (y * y) - y
-    phi3 = 4. * x - 4. * (x * x) - 4. * x * y
-    phi4 = 4. * x * y
-    phi5 = 4. * y - 4. * x * y - 4. * (y * y)
+    phi = _p2_phi(x, y)
     # derivatives (d/dx, d/dy) of each basis function, as ElementTriP2.lbasis writes them
     a0 = -3 + 4. * x + 4. * y
     b0 = -3 + 4. * x + 4. * y
@@ -91,48 +98,16 @@ def _p2_step(px, py, tx, ty, X0, X1):  # pragma: no cover (compiled)
     b4 = 4. * x
     a5 = -4. * y
     b5 = 4 - 4. * x - 8. * y
-    F0 = 0.0
-    F0 += px[0] * phi0
-    F0 += px[1] * phi1
-    F0 += px[2] * phi2
-    F0 += px[3] * phi3
-    F0 += px[4] * phi4
-    F0 += px[5] * phi5
-    F1 = 0.0
-    F1 += py[0] * phi0
-    F1 += py[1] * phi1
-    F1 += py[2] * phi2
-    F1 += py[3] * phi3
-    F1 += py[4] * phi4
-    F1 += py[5] * phi5
-    J00 = 0.0
-    J00 += px[0] * a0
-    J00 += px[1] * a1
-    J00 += px[2] * a2
-    J00 += px[3] * a3
-    J00 += px[4] * a4
-    J00 += px[5] * a5
-    J01 = 0.0
-    J01 += px[0] * b0
-    J01 += px[1] * b1
-    J01 += px[2] * b2
-    J01 += px[3] * b3
-    J01 += px[4] * b4
-    J01 += px[5] * b5
-    J10 = 0.0
-    J10 += py[0] * a0
-    J10 += py[1] * a1
-    J10 += py[2] * a2
-    J10 += py[3] * a3
-    J10 += py[4] * a4
-    J10 += py[5] * a5
-    J11 = 0.0
-    J11 += py[0] * b0
-    J11 += py[1] * b1
-    J11 += py[2] * b2
-    J11 += py[3] * b3
-    J11 += py[4] * b4
-    J11 += py[5] * b5
+    a = (a0, a1, a2, a3, a4, a5)
+    b = (b0, b1, b2, b3, b4, b5)
+    F0 = F1 = J00 = J01 = J10 = J11 = 0.0
+    for k in range(6):                              # each sum over the nodes in order, from zero
+        F0 += px[k] * phi[k]
+        F1 += py[k] * phi[k]
+        J00 += px[k] * a[k]
+        J01 += px[k] * b[k]
+        J10 += py[k] * a[k]
+        J11 += py[k] * b[k]
     det = J00 * J11 - J01 * J10
     if det == 0.0:
         return 0.0, 0.0, False
@@ -317,11 +292,7 @@ def p2_values(X):  # pragma: no cover (compiled)
     n = X.shape[1]
     out = np.empty((6, n))
     for p in range(n):
-        x, y = X[0, p], X[1, p]
-        out[0, p] = 1. - 3. * x - 3. * y + 2. * (x * x) + 4. * x * y + 2. * (y * y)
-        out[1, p] = 2. * (x * x) - x
-        out[2, p] = 2. * (y * y) - y
-        out[3, p] = 4. * x - 4. * (x * x) - 4. * x * y
-        out[4, p] = 4. * x * y
-        out[5, p] = 4. * y - 4. * x * y - 4. * (y * y)
+        phi = _p2_phi(X[0, p], X[1, p])
+        for k in range(6):
+            out[k, p] = phi[k]
     return out
