@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import arenas
+from reciprocity.fem import inverse_map as im
 from reciprocity.fem.green import GreenSolver
-from reciprocity.fem.inverse_map import inverse_map as _inverse_map
 
 
 def test_inside_points_map_as_scikit_fem_does_and_outside_ones_stay_in_their_cell():
@@ -17,13 +17,13 @@ def test_inside_points_map_as_scikit_fem_does_and_outside_ones_stay_in_their_cel
     # points inside their cells: the image of interior reference points
     ref = np.array([[0.2], [0.3]])[:, :, None] * np.ones((1, len(cells), 1))
     x = mapping.F(ref, cells)
-    np.testing.assert_allclose(_inverse_map(mapping, x, cells), mapping.invF(x, tind=cells))
-    np.testing.assert_allclose(_inverse_map(mapping, x, cells), ref, atol=1e-10)
+    np.testing.assert_allclose(im.inverse_map(mapping, x, cells), mapping.invF(x, tind=cells))
+    np.testing.assert_allclose(im.inverse_map(mapping, x, cells), ref, atol=1e-10)
     # far outside every cell: scikit-fem gives up, the fallback returns a point of the cell
     far = np.full((2, len(cells), 1), 1e3)
     with pytest.raises(Exception, match="Newton"):
         mapping.invF(far, tind=cells)
-    X = _inverse_map(mapping, far, cells)
+    X = im.inverse_map(mapping, far, cells)
     assert np.isfinite(X).all()
     assert (X >= 0).all() and (X[0] + X[1] <= 1 + 1e-12).all()
 
@@ -32,7 +32,6 @@ def test_inside_points_map_as_scikit_fem_does_and_outside_ones_stay_in_their_cel
 # From COMPILED_MIN_POINTS points on, compiled kernels answer; they repeat scikit-fem's
 # arithmetic, so their answers are scikit-fem's (and the NumPy fallback's) to the bit.
 
-from reciprocity.fem import inverse_map as im  # noqa: E402
 
 
 def _floor_like(solver, n, seed, rim=True):
