@@ -27,15 +27,19 @@ NEWTON_ITERATIONS, NEWTON_TOL = 50, 1e-12
 
 def _kind(mapping) -> str | None:
     """``"affine"`` for a triangle mesh's affine map, ``"p2"`` for a quadratic triangle
-    mesh's isoparametric one, else None (the NumPy path)."""
+    mesh's isoparametric one, else None (the NumPy path: another mesh, or a scikit-fem
+    whose mappings keep their arrays elsewhere)."""
     from skfem.element import ElementTriP2
     from skfem.mapping import MappingAffine, MappingIsoparametric
-    if type(mapping) is MappingAffine and mapping.dim == 2 and mapping.tind is None \
-            and mapping.mesh.t.shape[0] == 3:
-        return "affine"
-    if type(mapping) is MappingIsoparametric and type(mapping.elem) is ElementTriP2 \
-            and mapping.mesh.dofs.element_dofs.shape[0] == 6:
-        return "p2"
+    try:
+        if type(mapping) is MappingAffine and mapping.dim == 2 and mapping.tind is None \
+                and mapping.mesh.t.shape[0] == 3 and mapping.invA.shape[:2] == (2, 2):
+            return "affine"
+        if type(mapping) is MappingIsoparametric and type(mapping.elem) is ElementTriP2 \
+                and mapping.mesh.dofs.element_dofs.shape[0] == 6 and mapping.mesh.doflocs.shape[0] == 2:
+            return "p2"
+    except AttributeError:
+        pass
     return None
 
 
