@@ -503,10 +503,16 @@ def free_pixels(arena: Arena, px_per_cm: float) -> tuple[np.ndarray, np.ndarray]
     (x0, x1), (y0, y1) = arena.bounds
     w = max(1, math.ceil((x1 - x0) * px_per_cm - 1e-6))
     h = max(1, math.ceil((y1 - y0) * px_per_cm - 1e-6))
-    rows, cols = np.mgrid[0:h, 0:w]
-    centres = pixel_to_world(np.column_stack([cols.ravel(), rows.ravel()]), 1.0 / px_per_cm, h, (x0, y0))
+    # a pixel's centre: its column's x and its row's y (pixel_to_world of (k, k) gives both)
+    k = np.arange(max(h, w))
+    line = pixel_to_world(np.column_stack([k, k]), 1.0 / px_per_cm, h, (x0, y0))
+    xs, ys = line[:w, 0].copy(), line[:h, 1].copy()
+
+    def centres(idx: np.ndarray) -> np.ndarray:
+        return np.column_stack([xs[idx % w], ys[idx // w]])
+
     free = _free_centres(arena, px_per_cm, (h, w), centres)
-    inside = np.ascontiguousarray(centres[free])
+    inside = np.ascontiguousarray(centres(np.flatnonzero(free)))
     free.setflags(write=False)
     inside.setflags(write=False)
     return free, inside
@@ -518,16 +524,17 @@ WALL_BAND_PX = 3
 
 
 def _free_centres(arena: Arena, px_per_cm: float, shape: tuple[int, int],
-                  centres: np.ndarray) -> np.ndarray:
-    """``arena.contains(centres)`` for the pixel centres of an image of `shape`: the free
-    region rasterised (even-odd over its rings, at 1/16 pixel), and the pixels within
-    :data:`WALL_BAND_PX` of a wall decided by ``contains`` itself, so the answer is the
-    same to the pixel and most pixels never reach shapely."""
+                  centres: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+    """``arena.contains`` of the centres of every pixel of an image of `shape` (row-major;
+    `centres` gives those of the pixels it is given): the free region rasterised (even-odd
+    over its rings, at 1/16 pixel), and the pixels within :data:`WALL_BAND_PX` of a wall
+    decided by ``contains`` itself, so the answer is the same to the pixel and most pixels
+    never reach shapely."""
     import shapely
     geom = arena.free_region
     parts = list(geom.geoms) if isinstance(geom, shapely.MultiPolygon) else [geom]
     if not all(isinstance(g, shapely.Polygon) for g in parts):
-        return np.asarray(arena.contains(centres), dtype=bool)
+        return np.asarray(arena.contains(centres(np.arange(shape[0] * shape[1]))), dtype=bool)
     (x0, _), (y0, _) = arena.bounds
     mask = np.zeros(shape, np.uint8)
     band = np.zeros(shape, np.uint8)
@@ -541,7 +548,7 @@ def _free_centres(arena: Arena, px_per_cm: float, shape: tuple[int, int],
                       shift=4)
     free = mask.ravel().astype(bool)
     near = np.flatnonzero(band.ravel())
-    free[near] = arena.contains(centres[near])
+    free[near] = arena.contains(centres(near))
     return free
 
 

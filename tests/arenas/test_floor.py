@@ -281,8 +281,9 @@ def _centres(arena, px_per_cm):
 def test_free_pixels_are_those_the_arena_contains(which, px_per_cm):
     """The rasterised free region, with the band along the walls asked of the arena itself,
     gives arena.contains to the pixel: built-in and generated arenas, and obstacles
-    smaller than a pixel or thinner than one."""
-    from arenas.floor import _free_centres
+    smaller than a pixel or thinner than one; and the free centres are those of every
+    pixel, to the bit."""
+    from arenas.floor import _free_centres, free_pixels
     if which == "specks":
         arena = Arena.from_polygons(
             [(0, 0), (50, 0), (50, 40), (0, 40)],
@@ -294,4 +295,7 @@ def test_free_pixels_are_those_the_arena_contains(which, px_per_cm):
     else:
         arena = arenas.generate(which, 2)
     shape, centres = _centres(arena, px_per_cm)
-    assert np.array_equal(_free_centres(arena, px_per_cm, shape, centres), arena.contains(centres))
+    truth = arena.contains(centres)
+    assert np.array_equal(_free_centres(arena, px_per_cm, shape, lambda idx: centres[idx]), truth)
+    free, inside = free_pixels(arena, px_per_cm)
+    assert np.array_equal(free, truth) and np.array_equal(inside, centres[truth])
