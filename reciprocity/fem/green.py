@@ -171,6 +171,7 @@ class GreenSolver:
         self.mesh = self._curved(mesh1) if (order == 2 and arena.circle is not None) else mesh1
         elem = skfem.ElementTriP1() if order == 1 else skfem.ElementTriP2()
         self.basis = skfem.Basis(self.mesh, elem)
+        self._facet_classes = None
         self._classify_boundary()
         self._free = np.setdiff1d(np.arange(self.basis.N), self._dirichlet)
         self._stiffness = self._a_id = self._lu = None
@@ -238,6 +239,34 @@ class GreenSolver:
         return replace(m2, doflocs=loc)
 
     def _classify_boundary(self) -> None:
+        """The Dirichlet dofs: every wall's, or the outer boundary's with Neumann walls."""
+        if self.order == 1 and self.walls == "dirichlet":
+            # P1 dofs are the nodes, and every wall is Dirichlet: the nodes on the boundary,
+            # as scikit-fem's facet tables give them (which cost ten times more to build;
+            # the facets are classified when first asked for)
+            self._dirichlet = boundary_nodes(self._mesh1.t, self._mesh1.p.shape[1])
+            return
+        self._classify_facets()
+        dir_facets = self.outer_facets if self.walls == "neumann" else np.concatenate(
+            [self.outer_facets, self.obstacle_facets])
+        self._dirichlet = self.basis.get_dofs(np.sort(dir_facets)).all()
+
+    @property
+    def outer_facets(self) -> np.ndarray:
+        """The mesh's facets (scikit-fem's numbering) on the outer boundary."""
+        if self._facet_classes is None:
+            self._classify_facets()
+        return self._facet_classes[0]
+
+    @property
+    def obstacle_facets(self) -> np.ndarray:
+        """The mesh's facets (scikit-fem's numbering) on the obstacles."""
+        if self._facet_classes is None:
+            self._classify_facets()
+        return self._facet_classes[1]
+
+    def _classify_facets(self) -> None:
+        """The boundary facets, on the outer boundary or on an obstacle."""
         m = self._mesh1
         facets = m.boundary_facets()
         ends = m.p[:, m.facets[:, facets]]  # (2, 2, nf)
@@ -252,10 +281,7 @@ class GreenSolver:
             pts = shapely.points(ends.transpose(1, 2, 0).reshape(-1, 2))
             dist = shapely.distance(ring, pts).reshape(2, -1)
             on_outer = (dist < 1e-9 * max(1.0, np.ptp(self.arena.boundary))).all(axis=0)
-        self.outer_facets = facets[on_outer]
-        self.obstacle_facets = facets[~on_outer]
-        dir_facets = self.outer_facets if self.walls == "neumann" else facets
-        self._dirichlet = self.basis.get_dofs(dir_facets).all()
+        self._facet_classes = (facets[on_outer], facets[~on_outer])
 
     # ------------------------------------------------------------------ geometry
     @property
@@ -514,3 +540,13 @@ class GreenSolver:
     def __repr__(self) -> str:
         return (f"GreenSolver(arena={self.arena.name!r}, h={self.h}, order={self.order}, "
                 f"walls={self.walls!r}, unknowns={self.n_unknowns})")
+
+
+def boundary_nodes(t: np.ndarray, n_nodes: int) -> np.ndarray:
+    """The nodes on the boundary of the triangle mesh `t` (3, m): those of the edges that
+    only one triangle has, sorted, as ``int32`` (as scikit-fem's ``get_dofs`` gives the
+    P1 dofs of the boundary facets)."""
+    edges = np.sort(np.hstack([t[[0, 1]], t[[1, 2]], t[[0, 2]]]), axis=0).astype(np.int64)
+    keys, counts = np.unique(edges[0] * n_nodes + edges[1], return_counts=True)
+    once = keys[counts == 1]
+    return np.unique(np.concatenate([once // n_nodes, once % n_nodes])).astype(np.int32)
