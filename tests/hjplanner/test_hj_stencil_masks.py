@@ -43,8 +43,15 @@ CASES = {
     "maze, the car's clearance": lambda: solver.prepare(arenas.load("maze"), 15.0, 1.0, 48, clearance=4.0),
 }
 
+#: The cases whose checks of every arc take ten seconds or more: in the slow tier.
+SLOW = {"maze, the car's clearance"}
 
-@pytest.mark.parametrize("case", sorted(CASES))
+
+def _cases(names):
+    return [pytest.param(n, marks=pytest.mark.slow) if n in SLOW else n for n in names]
+
+
+@pytest.mark.parametrize("case", _cases(sorted(CASES)))
 def test_masks_admit_every_certified_arc_and_no_arc_surely_blocked(case):
     ws = CASES[case]()
     adm = ws.stencils["adm"]
@@ -65,7 +72,7 @@ def test_masks_admit_every_certified_arc_and_no_arc_surely_blocked(case):
         assert extra > 0  # the certified disks admit arcs the plain rule refuses: that path is tested below
 
 
-@pytest.mark.parametrize("case", ["paper, the car's clearance, reverse", "maze, the car's clearance"])
+@pytest.mark.parametrize("case", _cases(["paper, the car's clearance, reverse", "maze, the car's clearance"]))
 def test_every_admitted_arc_keeps_the_clearance_from_the_true_walls(case):
     """Arcs admitted through certified disks (not every sample certified on its own) are
     sampled densely and measured with the arena's exact wall distance."""

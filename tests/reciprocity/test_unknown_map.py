@@ -297,6 +297,7 @@ def test_a_shortfall_forgives_readings_below_the_open_model_and_only_those():
     assert isinstance(short.on(solver), ShortfallImaging) and short.on(solver).shortfall == 0.5
 
 
+@pytest.mark.slow            # about 11 s: a whole car episode on an unknown map
 def test_the_car_on_an_unknown_map_plans_on_what_it_has_seen():
     """The car is told the boundary only: it plans on its own occupancy grid, re-plans as
     walls appear, returns its scans to the strategy, and never learns a wall its beams did
